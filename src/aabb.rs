@@ -1,0 +1,202 @@
+use glam::DVec3;
+
+use crate::math::gamma;
+use crate::{Interval, Ray};
+
+/// Below this fraction of its longest side, a side of a box is padded: flat shapes get
+/// boxes of positive volume, and a micrometre object grows by a micrometre times 2^-20
+/// rather than by the book's fixed 0.0001.
+const MIN_WIDTH_REL_EXTENT: f64 = 1.0 / (1u64 << 20) as f64;
+/// Nor is a side thinner than this fraction of the largest coordinate: 2^-50 |x| is at least
+/// four ulps of |x|, so the padding survives rounding at 1e12 and beyond, where a fixed
+/// 0.0001 (less than one ulp past about 5e11) rounds away.
+const MIN_WIDTH_REL_MAGNITUDE: f64 = 1.0 / (1u64 << 50) as f64;
+/// The far slab distance is enlarged by this fraction of itself: each slab distance
+/// `(bound - o) * (1 / d)` carries three roundings, so `gamma(3)` bounds its relative error,
+/// and twice that covers the near and the far one together (pbrt-v4 `Bounds3::IntersectP`,
+/// after Ize 2013, "Robust BVH Ray Traversal").
+const FAR_PAD: f64 = 2.0 * gamma(3);
+
+/// An axis-aligned bounding box, padded so that no side is thinner than a width relative to
+/// the box's size and position (flat shapes still get a box with volume).
+///
+/// ```
+/// use hitkit::{glam::DVec3, Aabb, Interval, Ray};
+/// // Corners in any order; the flat z side is padded to a sliver.
+/// let b = Aabb::new(DVec3::new(1.0, 1.0, 0.0), DVec3::new(-1.0, -1.0, 0.0));
+/// assert!(b.min().z < 0.0 && b.max().z > 0.0 && b.max().z < 1e-5);
+/// let ray = Ray::new(DVec3::new(0.0, 0.0, 5.0), DVec3::new(0.0, 0.0, -1.0));
+/// assert!(b.hit(&ray, Interval::new(0.0, f64::INFINITY)));
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Aabb {
+    pub(crate) min: DVec3,
+    pub(crate) max: DVec3,
+}
+
+impl Aabb {
+    /// Contains nothing; the identity of [`Aabb::union`].
+    pub const EMPTY: Self = Self {
+        min: DVec3::INFINITY,
+        max: DVec3::NEG_INFINITY,
+    };
+    /// Contains everything; the box of an unbounded shape.
+    pub const UNIVERSE: Self = Self {
+        min: DVec3::NEG_INFINITY,
+        max: DVec3::INFINITY,
+    };
+
+    /// The box with corners `a` and `b` (in any order), padded to minimum widths.
+    ///
+    /// Infinite coordinates give an unbounded box; a NaN coordinate makes that axis
+    /// unbounded (a box must never lose what it should contain).
+    #[must_use]
+    pub fn new(a: DVec3, b: DVec3) -> Self {
+        let nan_to = |x: DVec3, fill: f64| DVec3::select(x.is_nan_mask(), DVec3::splat(fill), x);
+        let mut min = nan_to(a.min(b), f64::NEG_INFINITY);
+        let mut max = nan_to(a.max(b), f64::INFINITY);
+
+        let size = max - min;
+        let finite = |v: DVec3| DVec3::select(v.is_finite_mask(), v, DVec3::ZERO);
+        let longest = finite(size).max_element();
+        let magnitude = finite(min).abs().max(finite(max).abs()).max_element();
+        let min_width = (longest * MIN_WIDTH_REL_EXTENT).max(magnitude * MIN_WIDTH_REL_MAGNITUDE);
+        for axis in 0..3 {
+            if size[axis] < min_width {
+                let grow = 0.5 * (min_width - size[axis]);
+                min[axis] -= grow;
+                max[axis] += grow;
+            }
+        }
+        Self { min, max }
+    }
+
+    /// The smallest box (padded) containing every point; [`Aabb::EMPTY`] for none.
+    #[must_use]
+    pub fn from_points(points: &[DVec3]) -> Self {
+        match points.split_first() {
+            None => Self::EMPTY,
+            Some((first, rest)) => {
+                let (lo, hi) = rest.iter().fold((*first, *first), |(lo, hi), p| (lo.min(*p), hi.max(*p)));
+                Self::new(lo, hi)
+            }
+        }
+    }
+
+    /// The corner with the smallest coordinates.
+    #[inline]
+    #[must_use]
+    pub fn min(&self) -> DVec3 {
+        self.min
+    }
+
+    /// The corner with the largest coordinates.
+    #[inline]
+    #[must_use]
+    pub fn max(&self) -> DVec3 {
+        self.max
+    }
+
+    /// The smallest box containing both. See also [`Aabb::EMPTY`].
+    #[inline]
+    #[must_use]
+    pub fn union(&self, other: &Self) -> Self {
+        Self {
+            min: self.min.min(other.min),
+            max: self.max.max(other.max),
+        }
+    }
+
+    /// Whether it contains no point.
+    #[inline]
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.min.cmpgt(self.max).any()
+    }
+
+    /// Whether it is non-empty and all its coordinates are finite.
+    #[inline]
+    #[must_use]
+    pub fn is_bounded(&self) -> bool {
+        !self.is_empty() && self.min.is_finite() && self.max.is_finite()
+    }
+
+    /// Whether `p` lies in the closed box.
+    #[inline]
+    #[must_use]
+    pub fn contains(&self, p: DVec3) -> bool {
+        self.min.cmple(p).all() && p.cmple(self.max).all()
+    }
+
+    /// Whether the ray meets the closed box at some `t` in `ray_t`.
+    ///
+    /// Conservative by design: a ray lying in a slab plane (a zero or `-0.0` direction
+    /// component with the origin on a face) and a zero-thickness box are hits, and the far
+    /// distance is padded for rounding, so no box is rejected whose contents a shape's own
+    /// test would accept. An invalid ray (see [`Ray::is_valid`]) hits nothing.
+    #[inline]
+    #[must_use]
+    pub fn hit(&self, ray: &Ray, ray_t: Interval) -> bool {
+        ray.is_valid() && self.hit_prepared(&BoxRay::new(ray), ray_t)
+    }
+
+    /// The slab test (pbrt-v4 `Bounds3::IntersectP`) on a ray whose reciprocal direction
+    /// and signs were computed once. `0 * inf` (origin in a slab plane, direction 0) gives
+    /// NaN, and the comparisons are written so that a NaN distance constrains nothing.
+    #[inline]
+    pub(crate) fn hit_prepared(&self, ray: &BoxRay, ray_t: Interval) -> bool {
+        let (mut t0, mut t1) = (ray_t.min, ray_t.max);
+        for axis in 0..3 {
+            let (near, far) = if ray.negative[axis] {
+                (self.max[axis], self.min[axis])
+            } else {
+                (self.min[axis], self.max[axis])
+            };
+            let t_near = (near - ray.origin[axis]) * ray.inv_direction[axis];
+            let t_far = (far - ray.origin[axis]) * ray.inv_direction[axis];
+            // Enlarge outward (a multiple, not `+ |t_far| * pad`, which is NaN at infinity).
+            let t_far = t_far * if t_far > 0.0 { 1.0 + FAR_PAD } else { 1.0 - FAR_PAD };
+            if t_near > t0 {
+                t0 = t_near;
+            }
+            if t_far < t1 {
+                t1 = t_far;
+            }
+        }
+        // A ray parallel to a slab and outside it meets it only "at infinity".
+        t0 <= t1 && t0 < f64::INFINITY && t1 > f64::NEG_INFINITY
+    }
+}
+
+impl Default for Aabb {
+    /// [`Aabb::EMPTY`].
+    fn default() -> Self {
+        Self::EMPTY
+    }
+}
+
+/// A ray prepared for many box tests: its reciprocal direction and the direction's signs.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct BoxRay {
+    origin: DVec3,
+    inv_direction: DVec3,
+    /// Sign bits, so that `-0.0` counts as negative: its reciprocal is `-inf`.
+    negative: [bool; 3],
+}
+
+impl BoxRay {
+    #[inline]
+    pub(crate) fn new(ray: &Ray) -> Self {
+        let inv_direction = ray.direction.recip();
+        let negative = [
+            inv_direction.x.is_sign_negative(),
+            inv_direction.y.is_sign_negative(),
+            inv_direction.z.is_sign_negative(),
+        ];
+        Self {
+            origin: ray.origin,
+            inv_direction,
+            negative,
+        }
+    }
+}

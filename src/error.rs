@@ -1,0 +1,57 @@
+use core::fmt;
+
+/// Why a shape could not be built. Every constructor that takes numbers returns it rather
+/// than building something that would hit nothing or produce NaN.
+///
+/// ```
+/// use hitkit::{glam::DVec3, GeometryError, Quad};
+/// let err = Quad::new(DVec3::ZERO, DVec3::X, 2.0 * DVec3::X).unwrap_err();
+/// assert_eq!(err, GeometryError::ParallelEdges);
+/// assert_eq!(err.to_string(), "edge vectors u and v are parallel: they span no plane");
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
+pub enum GeometryError {
+    /// An input is NaN or infinite.
+    NonFinite {
+        /// Which input.
+        what: &'static str,
+    },
+    /// An edge vector is zero.
+    ZeroVector {
+        /// Which vector.
+        what: &'static str,
+    },
+    /// The edge vectors are parallel (to within rounding), so they span no plane.
+    ParallelEdges,
+    /// The edge vectors are so large or so small that their products overflow or
+    /// underflow `f64` (lengths past about 1e150 or below about 1e-150).
+    OutOfRange,
+    /// A shape parameter lies outside its domain.
+    InvalidParameter {
+        /// Which parameter.
+        what: &'static str,
+        /// The value given.
+        value: f64,
+        /// The domain it must lie in, for the message.
+        domain: &'static str,
+    },
+}
+
+impl fmt::Display for GeometryError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::NonFinite { what } => write!(f, "{what} is not finite (NaN or infinite)"),
+            Self::ZeroVector { what } => write!(f, "{what} is the zero vector"),
+            Self::ParallelEdges => f.write_str("edge vectors u and v are parallel: they span no plane"),
+            Self::OutOfRange => f.write_str(
+                "edge vectors u and v are too large or too small: their cross product overflows or underflows f64",
+            ),
+            Self::InvalidParameter { what, value, domain } => {
+                write!(f, "{what} = {value} lies outside {domain}")
+            }
+        }
+    }
+}
+
+impl core::error::Error for GeometryError {}

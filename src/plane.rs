@@ -1,0 +1,192 @@
+use glam::{DVec2, DVec3};
+
+use crate::math::{gamma, sqrt};
+use crate::{Aabb, GeometryError, HitRecord, Hittable, Interval, MaterialId, Ray};
+
+/// Where a ray meets a plane: the ray parameter `t` and the plane coordinates of the point,
+/// `q + alpha * u + beta * v`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PlaneHit {
+    /// Ray parameter, in units of the ray's direction.
+    pub t: f64,
+    /// Coordinate along `u`.
+    pub alpha: f64,
+    /// Coordinate along `v`.
+    pub beta: f64,
+}
+
+/// The infinite plane through `q` spanned by `u` and `v`; its outward normal is along
+/// `u x v`. The ground the planar shapes ([`Quad`](crate::Quad)) stand on, and a
+/// [`Hittable`] itself.
+///
+/// ```
+/// use hitkit::{glam::DVec3, Interval, Plane, Ray};
+/// let ground = Plane::new(DVec3::ZERO, DVec3::Z, DVec3::X).unwrap(); // normal +y
+/// let ray = Ray::new(DVec3::new(3.0, 2.0, 1.0), DVec3::new(1.0, -1.0, 0.0));
+/// let hit = ground.intersect(&ray, Interval::new(0.0, f64::INFINITY)).unwrap();
+/// assert_eq!((hit.t, hit.alpha, hit.beta), (2.0, 1.0, 5.0)); // the point (5, 0, 1)
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Plane {
+    q: DVec3,
+    u: DVec3,
+    v: DVec3,
+    /// `u x v`, unnormalized: the plane's own scale, used by `t` and by `w`.
+    n: DVec3,
+    /// `n / (n . n)`: turns the cross products of a point with `u`, `v` into coordinates.
+    w: DVec3,
+    normal: DVec3,
+    material: MaterialId,
+}
+
+impl Plane {
+    /// The plane through `q` spanned by `u` and `v`.
+    ///
+    /// # Errors
+    /// [`GeometryError::NonFinite`] for a NaN or infinite input,
+    /// [`GeometryError::ZeroVector`] for a zero `u` or `v`, [`GeometryError::ParallelEdges`]
+    /// when `u` and `v` are parallel to within rounding, and [`GeometryError::OutOfRange`]
+    /// when their lengths are so large or small that `u x v` overflows or underflows.
+    pub fn new(q: DVec3, u: DVec3, v: DVec3) -> Result<Self, GeometryError> {
+        for (what, x) in [("q", q), ("u", u), ("v", v)] {
+            if !x.is_finite() {
+                return Err(GeometryError::NonFinite { what });
+            }
+        }
+        for (what, x) in [("u", u), ("v", v)] {
+            if x == DVec3::ZERO {
+                return Err(GeometryError::ZeroVector { what });
+            }
+        }
+        let (uu, vv) = (u.length_squared(), v.length_squared());
+        if !(uu.is_normal() && vv.is_normal() && (uu * vv).is_normal()) {
+            return Err(GeometryError::OutOfRange);
+        }
+        let n = u.cross(v);
+        let nn = n.length_squared();
+        // Each component of the computed u x v is off by at most gamma(2) (|u_j v_k| +
+        // |u_k v_j|), so by at most sqrt(2) gamma(2) |u| |v| in length. When the whole cross
+        // product is within twice that, rounding may account for half of it: its direction,
+        // the plane's normal, is not known, and u and v count as parallel.
+        let noise = 2.0 * core::f64::consts::SQRT_2 * gamma(2);
+        if nn <= noise * noise * uu * vv {
+            return Err(GeometryError::ParallelEdges);
+        }
+        if !nn.is_normal() {
+            return Err(GeometryError::OutOfRange);
+        }
+        Ok(Self {
+            q,
+            u,
+            v,
+            n,
+            w: n / nn,
+            normal: n / sqrt(nn),
+            material: MaterialId::default(),
+        })
+    }
+
+    /// The same plane with material `material`.
+    #[inline]
+    #[must_use]
+    pub fn with_material(mut self, material: MaterialId) -> Self {
+        self.material = material;
+        self
+    }
+
+    /// The corner (or centre, for disks) `q`.
+    #[inline]
+    #[must_use]
+    pub fn q(&self) -> DVec3 {
+        self.q
+    }
+
+    /// The first edge vector.
+    #[inline]
+    #[must_use]
+    pub fn u(&self) -> DVec3 {
+        self.u
+    }
+
+    /// The second edge vector.
+    #[inline]
+    #[must_use]
+    pub fn v(&self) -> DVec3 {
+        self.v
+    }
+
+    /// The unit normal along `u x v`.
+    #[inline]
+    #[must_use]
+    pub fn normal(&self) -> DVec3 {
+        self.normal
+    }
+
+    /// The material id carried into hit records.
+    #[inline]
+    #[must_use]
+    pub fn material(&self) -> MaterialId {
+        self.material
+    }
+
+    /// Where the ray meets the plane with `t` in the closed interval `ray_t`, or `None`
+    /// (parallel ray, out of range, or an invalid ray).
+    ///
+    /// There is no parallel-ray epsilon: a ray is parallel only when `n . d` is exactly 0,
+    /// and a grazing ray hits wherever its `t` is finite and in range. The forms used are
+    /// the well-conditioned ones, `t = n.(q - o) / n.d` and `p - q = (o - q) + t d`, so a
+    /// scene far from the origin loses no more accuracy than its own size demands.
+    #[inline]
+    #[must_use]
+    pub fn intersect(&self, ray: &Ray, ray_t: Interval) -> Option<PlaneHit> {
+        let denom = self.n.dot(ray.direction);
+        let t = self.n.dot(self.q - ray.origin) / denom;
+        // denom == 0 (parallel) gives an infinite or NaN t; an overflowed denom a false 0.
+        if !(t.is_finite() && denom.is_finite() && ray_t.contains(t)) {
+            return None;
+        }
+        let p = (ray.origin - self.q) + t * ray.direction;
+        let alpha = self.w.dot(p.cross(self.v));
+        let beta = self.w.dot(self.u.cross(p));
+        // Non-finite coordinates mean a non-finite ray (or an overflow): no hit, no NaN.
+        (alpha.is_finite() && beta.is_finite()).then_some(PlaneHit { t, alpha, beta })
+    }
+
+    /// The hit record for a hit found by [`Plane::intersect`], with surface coordinates
+    /// `uv`. The point is `q + alpha u + beta v`, which lies on the plane to within
+    /// rounding whatever the error of `alpha` and `beta`; its error bound is that rounding.
+    #[must_use]
+    pub fn hit_record(&self, ray: &Ray, hit: PlaneHit, uv: DVec2) -> HitRecord {
+        let (au, bv) = (hit.alpha * self.u, hit.beta * self.v);
+        let point = self.q + (au + bv);
+        // Two products, one sum, one more sum: gamma(3) of the summed magnitudes.
+        let point_error = gamma(3) * (self.q.abs() + au.abs() + bv.abs());
+        HitRecord::new(ray, hit.t, point, point_error, self.normal, uv, self.material)
+    }
+}
+
+impl Hittable for Plane {
+    /// `uv` is `(alpha, beta)`, unbounded.
+    #[inline]
+    fn hit(&self, ray: &Ray, ray_t: Interval) -> Option<HitRecord> {
+        let hit = self.intersect(ray, ray_t)?;
+        Some(self.hit_record(ray, hit, DVec2::new(hit.alpha, hit.beta)))
+    }
+
+    /// A thin slab, infinite along the other two axes, when the normal is exactly an axis
+    /// (as for any plane spanned by two axis-aligned vectors); otherwise
+    /// [`Aabb::UNIVERSE`]. A normal even slightly off an axis makes the plane climb
+    /// through every coordinate of that axis far enough out, so no slab could hold it.
+    fn bounding_box(&self) -> Aabb {
+        let axis = match (self.n.x != 0.0, self.n.y != 0.0, self.n.z != 0.0) {
+            (true, false, false) => 0,
+            (false, true, false) => 1,
+            (false, false, true) => 2,
+            _ => return Aabb::UNIVERSE,
+        };
+        let (mut min, mut max) = (Aabb::UNIVERSE.min(), Aabb::UNIVERSE.max());
+        min[axis] = self.q[axis];
+        max[axis] = self.q[axis];
+        Aabb::new(min, max)
+    }
+}

@@ -1,0 +1,43 @@
+use glam::DVec3;
+
+/// A ray `origin + t * direction`.
+///
+/// The direction need not be unit length: hits report `t` in units of `direction`, and
+/// whether a surface is hit does not depend on the direction's length.
+///
+/// ```
+/// use hitkit::{glam::DVec3, Ray};
+/// let ray = Ray::new(DVec3::ZERO, DVec3::new(0.0, 0.0, -2.0));
+/// assert_eq!(ray.at(1.5), DVec3::new(0.0, 0.0, -3.0));
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Ray {
+    /// Where the ray starts.
+    pub origin: DVec3,
+    /// Where it goes; any finite, non-zero vector.
+    pub direction: DVec3,
+}
+
+impl Ray {
+    /// A ray from `origin` along `direction`.
+    #[inline]
+    #[must_use]
+    pub const fn new(origin: DVec3, direction: DVec3) -> Self {
+        Self { origin, direction }
+    }
+
+    /// The point at parameter `t`.
+    #[inline]
+    #[must_use]
+    pub fn at(&self, t: f64) -> DVec3 {
+        self.origin + t * self.direction
+    }
+
+    /// Whether the ray can be traced: a finite origin and a finite, non-zero direction.
+    /// Every `hit` in hitkit returns `None` for a ray that is not.
+    #[inline]
+    #[must_use]
+    pub fn is_valid(&self) -> bool {
+        self.origin.is_finite() && self.direction.is_finite() && self.direction != DVec3::ZERO
+    }
+}
