@@ -52,9 +52,9 @@ impl Aabb {
     /// unbounded (a box must never lose what it should contain).
     #[must_use]
     pub fn new(a: DVec3, b: DVec3) -> Self {
-        let nan_to = |x: DVec3, fill: f64| DVec3::select(x.is_nan_mask(), DVec3::splat(fill), x);
-        let mut min = nan_to(a.min(b), f64::NEG_INFINITY);
-        let mut max = nan_to(a.max(b), f64::INFINITY);
+        let nan = a.is_nan_mask() | b.is_nan_mask();
+        let mut min = DVec3::select(nan, DVec3::NEG_INFINITY, a.min(b));
+        let mut max = DVec3::select(nan, DVec3::INFINITY, a.max(b));
 
         let size = max - min;
         let finite = |v: DVec3| DVec3::select(v.is_finite_mask(), v, DVec3::ZERO);
@@ -77,9 +77,22 @@ impl Aabb {
         match points.split_first() {
             None => Self::EMPTY,
             Some((first, rest)) => {
-                let (lo, hi) = rest.iter().fold((*first, *first), |(lo, hi), p| (lo.min(*p), hi.max(*p)));
+                let (lo, hi) = rest
+                    .iter()
+                    .fold((*first, *first), |(lo, hi), p| (lo.min(*p), hi.max(*p)));
                 Self::new(lo, hi)
             }
+        }
+    }
+
+    /// The box grown by `margin` (non-negative) on every side: how shapes make room for
+    /// the rounding of the corners they compute.
+    #[inline]
+    #[must_use]
+    pub(crate) fn grown(&self, margin: DVec3) -> Self {
+        Self {
+            min: self.min - margin,
+            max: self.max + margin,
         }
     }
 
@@ -155,7 +168,12 @@ impl Aabb {
             let t_near = (near - ray.origin[axis]) * ray.inv_direction[axis];
             let t_far = (far - ray.origin[axis]) * ray.inv_direction[axis];
             // Enlarge outward (a multiple, not `+ |t_far| * pad`, which is NaN at infinity).
-            let t_far = t_far * if t_far > 0.0 { 1.0 + FAR_PAD } else { 1.0 - FAR_PAD };
+            let t_far = t_far
+                * if t_far > 0.0 {
+                    1.0 + FAR_PAD
+                } else {
+                    1.0 - FAR_PAD
+                };
             if t_near > t0 {
                 t0 = t_near;
             }

@@ -24,8 +24,8 @@ pub enum GeometryError {
     },
     /// The edge vectors are parallel (to within rounding), so they span no plane.
     ParallelEdges,
-    /// The edge vectors are so large or so small that their products overflow or
-    /// underflow `f64` (lengths past about 1e150 or below about 1e-150).
+    /// The edge vectors are so large or so small that `|u| |v|` or `u x v` overflows or
+    /// underflows `f64` (for edges of equal length: past about 1e154 or below about 1e-154).
     OutOfRange,
     /// A shape parameter lies outside its domain.
     InvalidParameter {

@@ -49,7 +49,11 @@ impl HitRecord {
         material: MaterialId,
     ) -> Self {
         let front_face = ray.direction.dot(outward_normal) < 0.0;
-        let normal = if front_face { outward_normal } else { -outward_normal };
+        let normal = if front_face {
+            outward_normal
+        } else {
+            -outward_normal
+        };
         Self {
             t,
             point,
@@ -79,7 +83,11 @@ impl HitRecord {
     /// ```
     #[must_use]
     pub fn spawn_ray(&self, direction: DVec3) -> Ray {
-        let toward = if direction.dot(self.normal) < 0.0 { -self.normal } else { self.normal };
+        let toward = if direction.dot(self.normal) < 0.0 {
+            -self.normal
+        } else {
+            self.normal
+        };
         let mut origin = self.point + self.normal.abs().dot(self.point_error) * toward;
         // One more float away along every axis the normal has a component on, so that the
         // origin leaves the surface even where the error bound is zero.
@@ -191,7 +199,8 @@ impl<T: Hittable> Hittable for [T] {
     }
 
     fn bounding_box(&self) -> Aabb {
-        self.iter().fold(Aabb::EMPTY, |b, o| b.union(&o.bounding_box()))
+        self.iter()
+            .fold(Aabb::EMPTY, |b, o| b.union(&o.bounding_box()))
     }
 
     fn occluded(&self, ray: &Ray, ray_t: Interval) -> bool {

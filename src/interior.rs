@@ -2,14 +2,16 @@
 
 use glam::{DVec2, DVec3};
 
-use crate::math::sqrt;
+use crate::math::{gamma, sqrt};
 use crate::{Aabb, GeometryError, Hittable, Plane};
 
 /// The region of a plane that a [`Quad`](crate::Quad) covers, in `(alpha, beta)` space.
 ///
 /// Implemented by [`Parallelogram`], [`Triangle`], [`Disk`], [`Ring`], and by any closure
-/// `Fn(f64, f64) -> bool`. A closure's extent is unknown, so its quad gets the plane's
-/// bounding box; implement the trait on your own type to give a tighter one.
+/// `Fn(f64, f64) -> bool` (write the parameter types, `|a: f64, b: f64|`: they cannot be
+/// inferred through the blanket implementation). A closure's extent is unknown, so its quad
+/// gets the plane's (unbounded) box; implement the trait on your own type to give a
+/// tighter one, for example the box of the [`Parallelogram`] your predicate stays within.
 ///
 /// ```
 /// use hitkit::{glam::DVec3, Hittable, Interval, Quad, Ray};
@@ -59,7 +61,7 @@ impl Interior for Parallelogram {
 
     fn bounding_box(&self, plane: &Plane) -> Aabb {
         let (q, u, v) = (plane.q(), plane.u(), plane.v());
-        Aabb::from_points(&[q, q + u, q + v, q + u + v])
+        Aabb::from_points(&[q, q + u, q + v, q + u + v]).grown(corner_rounding(plane))
     }
 }
 
@@ -76,7 +78,7 @@ impl Interior for Triangle {
 
     fn bounding_box(&self, plane: &Plane) -> Aabb {
         let (q, u, v) = (plane.q(), plane.u(), plane.v());
-        Aabb::from_points(&[q, q + u, q + v])
+        Aabb::from_points(&[q, q + u, q + v]).grown(corner_rounding(plane))
     }
 }
 
@@ -164,11 +166,20 @@ fn disk_uv(alpha: f64, beta: f64) -> DVec2 {
     DVec2::new(0.5 * (alpha + 1.0), 0.5 * (beta + 1.0))
 }
 
+/// How far a corner `q + u + v` computed in floats can be from the exact one: two sums,
+/// `gamma(2)` of the summed magnitudes. Shapes grow their boxes by it, so that the box holds
+/// the exact shape and not only its rounded corners.
+fn corner_rounding(plane: &Plane) -> DVec3 {
+    gamma(2) * (plane.q().abs() + plane.u().abs() + plane.v().abs())
+}
+
 /// The box of the ellipse `q + cos(s) u + sin(s) v`: along each axis its coordinate ranges
-/// over `q_i ± sqrt(u_i^2 + v_i^2)`, the amplitude of `u_i cos(s) + v_i sin(s)`.
+/// over `q_i ± sqrt(u_i^2 + v_i^2)`, the amplitude of `u_i cos(s) + v_i sin(s)`. The
+/// half-width carries four roundings (two squares, a sum, a square root) and the sum with
+/// `q` one more: `gamma(5)` of the magnitudes.
 fn ellipse_box(plane: &Plane) -> Aabb {
     let (q, u, v) = (plane.q(), plane.u(), plane.v());
     let s = u * u + v * v;
     let half = DVec3::new(sqrt(s.x), sqrt(s.y), sqrt(s.z));
-    Aabb::new(q - half, q + half)
+    Aabb::new(q - half, q + half).grown(gamma(5) * (q.abs() + half))
 }

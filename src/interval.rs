@@ -38,7 +38,7 @@ impl Interval {
     #[inline]
     #[must_use]
     pub fn is_empty(&self) -> bool {
-        !(self.min <= self.max)
+        self.min > self.max || self.min.is_nan() || self.max.is_nan()
     }
 
     /// `min <= x <= max` (closed). False for NaN.

@@ -77,3 +77,8 @@ pub use interval::Interval;
 pub use plane::{Plane, PlaneHit};
 pub use quad::Quad;
 pub use ray::Ray;
+
+/// The README's code blocks, run as doctests.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+pub struct ReadmeDoctests;

@@ -25,3 +25,16 @@ pub(crate) fn sqrt(x: f64) -> f64 {
         libm::sqrt(x)
     }
 }
+
+/// `v / |v|` and `|v|`, without overflow or underflow in the squares: `v` is first scaled
+/// by the power of two (an exact scaling) that brings its largest component near 1. For a
+/// zero vector, `(NaN, 0)`.
+#[must_use]
+pub(crate) fn unit_and_length(v: glam::DVec3) -> (glam::DVec3, f64) {
+    let largest = v.abs().max_element();
+    let exponent = ((largest.to_bits() >> 52) & 0x7ff) as i64 - 1023;
+    let scale = f64::from_bits(((1023 - exponent.clamp(-1022, 1022)) as u64) << 52);
+    let scaled = v * scale;
+    let length = scaled.length();
+    (scaled / length, length / scale)
+}

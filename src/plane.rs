@@ -1,6 +1,6 @@
 use glam::{DVec2, DVec3};
 
-use crate::math::{gamma, sqrt};
+use crate::math::{gamma, unit_and_length};
 use crate::{Aabb, GeometryError, HitRecord, Hittable, Interval, MaterialId, Ray};
 
 /// Where a ray meets a plane: the ray parameter `t` and the plane coordinates of the point,
@@ -31,11 +31,12 @@ pub struct Plane {
     q: DVec3,
     u: DVec3,
     v: DVec3,
-    /// `u x v`, unnormalized: the plane's own scale, used by `t` and by `w`.
-    n: DVec3,
-    /// `n / (n . n)`: turns the cross products of a point with `u`, `v` into coordinates.
-    w: DVec3,
+    /// The unit normal along `u x v`; unit length keeps `t` free of overflow for large
+    /// edges and of underflow for small ones.
     normal: DVec3,
+    /// `(u x v) / |u x v|^2`: turns the cross products of a point with `u`, `v` into
+    /// coordinates.
+    w: DVec3,
     material: MaterialId,
 }
 
@@ -58,30 +59,28 @@ impl Plane {
                 return Err(GeometryError::ZeroVector { what });
             }
         }
-        let (uu, vv) = (u.length_squared(), v.length_squared());
-        if !(uu.is_normal() && vv.is_normal() && (uu * vv).is_normal()) {
+        let (u_len, v_len) = (unit_and_length(u).1, unit_and_length(v).1);
+        let n = u.cross(v);
+        if !((u_len * v_len).is_normal() && n.is_finite()) {
             return Err(GeometryError::OutOfRange);
         }
-        let n = u.cross(v);
-        let nn = n.length_squared();
+        let (normal, n_len) = unit_and_length(n);
         // Each component of the computed u x v is off by at most gamma(2) (|u_j v_k| +
         // |u_k v_j|), so by at most sqrt(2) gamma(2) |u| |v| in length. When the whole cross
         // product is within twice that, rounding may account for half of it: its direction,
         // the plane's normal, is not known, and u and v count as parallel.
-        let noise = 2.0 * core::f64::consts::SQRT_2 * gamma(2);
-        if nn <= noise * noise * uu * vv {
+        if n_len <= 2.0 * core::f64::consts::SQRT_2 * gamma(2) * u_len * v_len {
             return Err(GeometryError::ParallelEdges);
         }
-        if !nn.is_normal() {
+        if !n_len.is_normal() {
             return Err(GeometryError::OutOfRange);
         }
         Ok(Self {
             q,
             u,
             v,
-            n,
-            w: n / nn,
-            normal: n / sqrt(nn),
+            normal,
+            w: normal / n_len,
             material: MaterialId::default(),
         })
     }
@@ -134,13 +133,14 @@ impl Plane {
     ///
     /// There is no parallel-ray epsilon: a ray is parallel only when `n . d` is exactly 0,
     /// and a grazing ray hits wherever its `t` is finite and in range. The forms used are
-    /// the well-conditioned ones, `t = n.(q - o) / n.d` and `p - q = (o - q) + t d`, so a
+    /// the well-conditioned ones, `t = n.(q - o) / n.d` (`n` the unit normal) and
+    /// `p - q = (o - q) + t d`, so a
     /// scene far from the origin loses no more accuracy than its own size demands.
     #[inline]
     #[must_use]
     pub fn intersect(&self, ray: &Ray, ray_t: Interval) -> Option<PlaneHit> {
-        let denom = self.n.dot(ray.direction);
-        let t = self.n.dot(self.q - ray.origin) / denom;
+        let denom = self.normal.dot(ray.direction);
+        let t = self.normal.dot(self.q - ray.origin) / denom;
         // denom == 0 (parallel) gives an infinite or NaN t; an overflowed denom a false 0.
         if !(t.is_finite() && denom.is_finite() && ray_t.contains(t)) {
             return None;
@@ -161,7 +161,15 @@ impl Plane {
         let point = self.q + (au + bv);
         // Two products, one sum, one more sum: gamma(3) of the summed magnitudes.
         let point_error = gamma(3) * (self.q.abs() + au.abs() + bv.abs());
-        HitRecord::new(ray, hit.t, point, point_error, self.normal, uv, self.material)
+        HitRecord::new(
+            ray,
+            hit.t,
+            point,
+            point_error,
+            self.normal,
+            uv,
+            self.material,
+        )
     }
 }
 
@@ -178,7 +186,11 @@ impl Hittable for Plane {
     /// [`Aabb::UNIVERSE`]. A normal even slightly off an axis makes the plane climb
     /// through every coordinate of that axis far enough out, so no slab could hold it.
     fn bounding_box(&self) -> Aabb {
-        let axis = match (self.n.x != 0.0, self.n.y != 0.0, self.n.z != 0.0) {
+        let axis = match (
+            self.normal.x != 0.0,
+            self.normal.y != 0.0,
+            self.normal.z != 0.0,
+        ) {
             (true, false, false) => 0,
             (false, true, false) => 1,
             (false, false, true) => 2,

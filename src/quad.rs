@@ -1,6 +1,9 @@
 use glam::DVec3;
 
-use crate::{Aabb, GeometryError, HitRecord, Hittable, Interior, Interval, MaterialId, Parallelogram, Plane, Ray};
+use crate::{
+    Aabb, GeometryError, HitRecord, Hittable, Interior, Interval, MaterialId, Parallelogram, Plane,
+    Ray,
+};
 
 /// A planar shape: a [`Plane`] finds `(t, alpha, beta)`, an [`Interior`] predicate decides
 /// whether the point belongs to the shape. With the default [`Parallelogram`] it is the
@@ -82,7 +85,10 @@ impl<S: Interior> Hittable for Quad<S> {
         if !self.shape.contains(hit.alpha, hit.beta) {
             return None;
         }
-        Some(self.plane.hit_record(ray, hit, self.shape.uv(hit.alpha, hit.beta)))
+        Some(
+            self.plane
+                .hit_record(ray, hit, self.shape.uv(hit.alpha, hit.beta)),
+        )
     }
 
     #[inline]
