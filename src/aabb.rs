@@ -150,40 +150,45 @@ impl Aabb {
     #[inline]
     #[must_use]
     pub fn hit(&self, ray: &Ray, ray_t: Interval) -> bool {
-        ray.is_valid() && self.hit_prepared(&BoxRay::new(ray), ray_t)
+        ray.is_valid() && slab_entry(self.min, self.max, &BoxRay::new(ray), ray_t).is_some()
     }
+}
 
-    /// The slab test (pbrt-v4 `Bounds3::IntersectP`) on a ray whose reciprocal direction
-    /// and signs were computed once. `0 * inf` (origin in a slab plane, direction 0) gives
-    /// NaN, and the comparisons are written so that a NaN distance constrains nothing.
-    #[inline]
-    pub(crate) fn hit_prepared(&self, ray: &BoxRay, ray_t: Interval) -> bool {
-        let (mut t0, mut t1) = (ray_t.min, ray_t.max);
-        for axis in 0..3 {
-            let (near, far) = if ray.negative[axis] {
-                (self.max[axis], self.min[axis])
+/// The slab test (pbrt-v4 `Bounds3::IntersectP`) of the box `[min, max]` against a ray whose
+/// reciprocal direction and signs were computed once: the distance at which the ray enters
+/// the box within `ray_t` (clamped to `ray_t.min`), or `None`. The one box test of the
+/// crate; `Aabb::hit` and the BVH both use it.
+///
+/// `0 * inf` (origin in a slab plane, direction 0) gives NaN, and the comparisons are written
+/// so that a NaN distance constrains nothing: the ray lies in the face, which belongs to the
+/// closed box.
+#[inline(always)]
+pub(crate) fn slab_entry(min: DVec3, max: DVec3, ray: &BoxRay, ray_t: Interval) -> Option<f64> {
+    let (mut t0, mut t1) = (ray_t.min, ray_t.max);
+    for axis in 0..3 {
+        let (near, far) = if ray.negative[axis] {
+            (max[axis], min[axis])
+        } else {
+            (min[axis], max[axis])
+        };
+        let t_near = (near - ray.origin[axis]) * ray.inv_direction[axis];
+        let t_far = (far - ray.origin[axis]) * ray.inv_direction[axis];
+        // Enlarge outward (a multiple, not `+ |t_far| * pad`, which is NaN at infinity).
+        let t_far = t_far
+            * if t_far > 0.0 {
+                1.0 + FAR_PAD
             } else {
-                (self.min[axis], self.max[axis])
+                1.0 - FAR_PAD
             };
-            let t_near = (near - ray.origin[axis]) * ray.inv_direction[axis];
-            let t_far = (far - ray.origin[axis]) * ray.inv_direction[axis];
-            // Enlarge outward (a multiple, not `+ |t_far| * pad`, which is NaN at infinity).
-            let t_far = t_far
-                * if t_far > 0.0 {
-                    1.0 + FAR_PAD
-                } else {
-                    1.0 - FAR_PAD
-                };
-            if t_near > t0 {
-                t0 = t_near;
-            }
-            if t_far < t1 {
-                t1 = t_far;
-            }
+        if t_near > t0 {
+            t0 = t_near;
         }
-        // A ray parallel to a slab and outside it meets it only "at infinity".
-        t0 <= t1 && t0 < f64::INFINITY && t1 > f64::NEG_INFINITY
+        if t_far < t1 {
+            t1 = t_far;
+        }
     }
+    // A ray parallel to a slab and outside it meets it only "at infinity".
+    (t0 <= t1 && t0 < f64::INFINITY && t1 > f64::NEG_INFINITY).then_some(t0)
 }
 
 impl Default for Aabb {

@@ -105,8 +105,9 @@ impl HitRecord {
 /// Something a ray can hit. Object safe: scenes mix shapes as `Box<dyn Hittable>`.
 ///
 /// Implemented for `Box<T>`, `Arc<T>` and `&T` of any hittable (sized or not), and for
-/// `[T]` and `Vec<T>`: the closest hit of the list, with the union of the boxes (computed
-/// on each call; a `Bvh` keeps one).
+/// `[T]` and `Vec<T>`: the closest hit of the list (of hits at exactly the same `t`, the
+/// earlier object's), with the union of the boxes (computed on each call; a
+/// [`Bvh`](crate::Bvh) keeps one, and skips most objects).
 ///
 /// ```
 /// use hitkit::glam::DVec3;
@@ -192,7 +193,10 @@ impl<T: Hittable> Hittable for [T] {
         for object in self {
             let max = closest.map_or(ray_t.max, |h| h.t);
             if let Some(h) = object.hit(ray, Interval::new(ray_t.min, max)) {
-                closest = Some(h);
+                // Of hits at exactly the same t, the first object's stands.
+                if closest.is_none_or(|c| h.t < c.t) {
+                    closest = Some(h);
+                }
             }
         }
         closest

@@ -55,6 +55,7 @@ compile_error!("hitkit needs float functions: enable the `std` feature (default)
 extern crate alloc;
 
 mod aabb;
+mod bvh;
 mod error;
 mod hittable;
 mod interior;
@@ -70,6 +71,7 @@ mod impl_approx;
 pub use glam;
 
 pub use aabb::Aabb;
+pub use bvh::Bvh;
 pub use error::GeometryError;
 pub use hittable::{HitRecord, Hittable, MaterialId, PdfHittable};
 pub use interior::{Disk, Interior, Parallelogram, Ring, Triangle};

@@ -1,0 +1,154 @@
+//! A bounding volume hierarchy over any [`Hittable`]: flat, built with binned SAH,
+//! traversed front to back without recursion or allocation.
+
+mod build;
+mod traverse;
+
+use alloc::vec::Vec;
+
+use crate::{Aabb, HitRecord, Hittable, Interval, Ray};
+
+/// Deepest a tree gets; the traversal stack has this many entries. The build switches to
+/// median splits (which halve the count) well before it: see `build::MEDIAN_FROM_DEPTH`.
+const MAX_DEPTH: usize = 64;
+
+/// A node: its box in `f32` (rounded outward, so it still holds everything it must), and
+/// either two children (`count == 0`, `index` the pair) or a leaf (`count` objects from
+/// `index`). 32 bytes: a pair of siblings shares one 64-byte cache line.
+#[derive(Clone, Copy, Debug, Default)]
+#[repr(C)]
+struct Node {
+    min: [f32; 3],
+    index: u32,
+    max: [f32; 3],
+    count: u32,
+}
+
+/// Two sibling nodes, tested together, in one cache line.
+#[derive(Clone, Copy, Debug, Default)]
+#[repr(C, align(64))]
+struct Pair([Node; 2]);
+
+/// A bounding volume hierarchy: the closest hit (or any hit) among many objects without
+/// testing them all.
+///
+/// Generic over the object type, so a `Bvh<Quad>` is monomorphized and inlined, while a
+/// `Bvh<Box<dyn Hittable>>` mixes shapes. A `Bvh` is itself a [`Hittable`], so BVHs nest.
+/// Objects with an unbounded box (an infinite [`Plane`](crate::Plane), say) are kept out of
+/// the tree and tested on every ray.
+///
+/// The objects are stored reordered for locality; [`Bvh::hit_with_index`] and
+/// [`Bvh::original_index`] translate back to positions in the `Vec` given to
+/// [`Bvh::new`].
+///
+/// ```
+/// use hitkit::glam::DVec3;
+/// use hitkit::{Bvh, Hittable, Interval, Quad, Ray};
+///
+/// let tiles: Vec<Quad> = (0..100)
+///     .map(|i| Quad::new(DVec3::new(i as f64, 0.0, 0.0), DVec3::X, DVec3::Y).unwrap())
+///     .collect();
+/// let bvh = Bvh::new(tiles);
+/// let ray = Ray::new(DVec3::new(41.5, 0.5, 1.0), DVec3::NEG_Z);
+/// let (index, hit) = bvh.hit_with_index(&ray, Interval::new(0.0, f64::INFINITY)).unwrap();
+/// assert_eq!((index, hit.t), (41, 1.0));
+/// ```
+#[derive(Clone, Debug)]
+pub struct Bvh<T> {
+    /// Bounded objects first, in tree order, then the unbounded ones.
+    objects: Vec<T>,
+    /// `order[i]`: the position in the caller's `Vec` of `objects[i]`.
+    order: Vec<u32>,
+    /// How many of `objects` are in the tree.
+    bounded: usize,
+    root: Node,
+    pairs: Vec<Pair>,
+    bbox: Aabb,
+}
+
+impl<T: Hittable> Bvh<T> {
+    /// Builds the hierarchy (binned SAH; see the crate's README for build times).
+    ///
+    /// # Panics
+    /// If there are more than `u32::MAX` objects.
+    #[must_use]
+    pub fn new(objects: Vec<T>) -> Self {
+        build::build(objects)
+    }
+
+    /// The number of objects.
+    #[inline]
+    #[must_use]
+    pub fn len(&self) -> usize {
+        self.objects.len()
+    }
+
+    /// Whether there are no objects.
+    #[inline]
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.objects.is_empty()
+    }
+
+    /// The objects, in the BVH's own order (see [`Bvh::original_index`]).
+    #[inline]
+    #[must_use]
+    pub fn objects(&self) -> &[T] {
+        &self.objects
+    }
+
+    /// The position, in the `Vec` given to [`Bvh::new`], of `self.objects()[i]`.
+    ///
+    /// # Panics
+    /// If `i >= self.len()`.
+    #[inline]
+    #[must_use]
+    pub fn original_index(&self, i: usize) -> usize {
+        self.order[i] as usize
+    }
+
+    /// The closest hit and the position of the object hit in the `Vec` given to
+    /// [`Bvh::new`]. Of objects hit at exactly the same `t`, the one given first wins, as
+    /// for a slice.
+    #[must_use]
+    pub fn hit_with_index(&self, ray: &Ray, ray_t: Interval) -> Option<(usize, HitRecord)> {
+        let mut closest: Option<(usize, HitRecord)> = None;
+        let mut t_max = ray_t.max;
+        self.walk(ray, ray_t, &mut t_max, |objects, first, t_max| {
+            for (object, &index) in objects.iter().zip(&self.order[first..]) {
+                let index = index as usize;
+                if let Some(hit) = object.hit(ray, Interval::new(ray_t.min, *t_max))
+                    && (hit.t < *t_max || closest.is_none_or(|(best, _)| index < best))
+                {
+                    *t_max = hit.t;
+                    closest = Some((index, hit));
+                }
+            }
+            false
+        });
+        closest
+    }
+}
+
+impl<T: Hittable> Hittable for Bvh<T> {
+    #[inline]
+    fn hit(&self, ray: &Ray, ray_t: Interval) -> Option<HitRecord> {
+        self.hit_with_index(ray, ray_t).map(|(_, hit)| hit)
+    }
+
+    #[inline]
+    fn bounding_box(&self) -> Aabb {
+        self.bbox
+    }
+
+    /// Stops at the first object found that occludes, in any order.
+    fn occluded(&self, ray: &Ray, ray_t: Interval) -> bool {
+        let mut found = false;
+        let mut t_max = ray_t.max;
+        self.walk(ray, ray_t, &mut t_max, |objects, _, _| {
+            found = objects.iter().any(|o| o.occluded(ray, ray_t));
+            found
+        });
+        found
+    }
+}
