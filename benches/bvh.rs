@@ -1,0 +1,80 @@
+//! BVH build time and closest-hit throughput on random triangle soups (fixed seed), with
+//! incoherent and coherent rays, and the same scene behind static and dynamic dispatch.
+//!
+//! `cargo bench --bench bvh`; the scenes and rays are those of `benches/peers`.
+
+use std::hint::black_box;
+
+use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
+use hitkit::{Bvh, Hittable, Interval, Quad, Ray, Triangle};
+
+#[path = "peers/src/scene.rs"]
+#[allow(dead_code)]
+mod scene;
+
+const SEED: u64 = 0x5eed;
+/// Rays traced per measured iteration.
+const RAYS: usize = 10_000;
+
+fn triangles(n: usize) -> Vec<Quad<Triangle>> {
+    scene::triangle_soup(n, SEED)
+        .into_iter()
+        .filter_map(|[a, b, c]| Quad::with_interior(a, b - a, c - a, Triangle).ok())
+        .collect()
+}
+
+fn trace<H: Hittable + ?Sized>(scene: &H, rays: &[Ray]) -> usize {
+    rays.iter()
+        .filter(|r| black_box(scene.hit(r, Interval::new(0.0, f64::INFINITY))).is_some())
+        .count()
+}
+
+fn build(c: &mut Criterion) {
+    let mut group = c.benchmark_group("build");
+    group.sample_size(10);
+    for n in [1_000, 10_000, 100_000, 1_000_000] {
+        let tris = triangles(n);
+        group.throughput(Throughput::Elements(n as u64));
+        group.bench_with_input(BenchmarkId::from_parameter(n), &tris, |b, tris| {
+            b.iter_batched(
+                || tris.clone(),
+                |t| Bvh::new(black_box(t)),
+                criterion::BatchSize::LargeInput,
+            );
+        });
+    }
+    group.finish();
+}
+
+fn closest_hit(c: &mut Criterion) {
+    let mut group = c.benchmark_group("closest_hit");
+    group.throughput(Throughput::Elements(RAYS as u64));
+    for n in [1_000, 100_000, 1_000_000] {
+        let tris = triangles(n);
+        let bounds = scene::bounds(&scene::triangle_soup(n, SEED));
+        let incoherent = scene::random_rays(bounds, RAYS, SEED + 1);
+        let coherent = scene::camera_rays(bounds, 100);
+        let fixed = Bvh::new(tris.clone());
+        let boxed: Bvh<Box<dyn Hittable>> = Bvh::new(
+            tris.into_iter()
+                .map(|t| Box::new(t) as Box<dyn Hittable>)
+                .collect(),
+        );
+        for (kind, rays) in [("random", &incoherent), ("camera", &coherent)] {
+            group.bench_with_input(
+                BenchmarkId::new(format!("static/{kind}"), n),
+                rays,
+                |b, rays| b.iter(|| trace(&fixed, rays)),
+            );
+            group.bench_with_input(
+                BenchmarkId::new(format!("dyn/{kind}"), n),
+                rays,
+                |b, rays| b.iter(|| trace(&boxed, rays)),
+            );
+        }
+    }
+    group.finish();
+}
+
+criterion_group!(benches, build, closest_hit);
+criterion_main!(benches);

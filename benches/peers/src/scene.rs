@@ -1,0 +1,94 @@
+//! The scenes and rays every benchmark shares: the criterion benches include this file, and
+//! the peers comparison uses it, so that all of them trace the same work.
+
+use hitkit::Ray;
+use hitkit::glam::DVec3;
+
+/// A triangle as its three corners.
+pub type Tri = [DVec3; 3];
+
+/// SplitMix64 (Steele, Lea and Flood 2014): a fixed stream for a fixed seed, on every
+/// platform and every version of every crate.
+pub struct SplitMix(u64);
+
+impl SplitMix {
+    pub fn new(seed: u64) -> Self {
+        Self(seed)
+    }
+
+    pub fn next_u64(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        z ^ (z >> 31)
+    }
+
+    /// Uniform in [0, 1).
+    pub fn next_f64(&mut self) -> f64 {
+        (self.next_u64() >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
+    }
+
+    pub fn vec3(&mut self) -> DVec3 {
+        DVec3::new(self.next_f64(), self.next_f64(), self.next_f64())
+    }
+
+    /// Uniform on the unit sphere.
+    pub fn direction(&mut self) -> DVec3 {
+        let z = 2.0 * self.next_f64() - 1.0;
+        let phi = core::f64::consts::TAU * self.next_f64();
+        let r = (1.0 - z * z).sqrt();
+        DVec3::new(r * phi.cos(), r * phi.sin(), z)
+    }
+}
+
+/// `n` random triangles in the unit cube, edges about 0.01 long.
+pub fn triangle_soup(n: usize, seed: u64) -> Vec<Tri> {
+    let mut rng = SplitMix::new(seed);
+    (0..n)
+        .map(|_| {
+            let a = rng.vec3();
+            let mut corner = || a + 0.01 * rng.direction();
+            [a, corner(), corner()]
+        })
+        .collect()
+}
+
+/// The box of all corners.
+pub fn bounds(tris: &[Tri]) -> (DVec3, DVec3) {
+    tris.iter()
+        .flatten()
+        .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), p| {
+            (lo.min(*p), hi.max(*p))
+        })
+}
+
+/// Incoherent rays: origins uniform in the box, directions uniform on the sphere.
+pub fn random_rays((lo, hi): (DVec3, DVec3), n: usize, seed: u64) -> Vec<Ray> {
+    let mut rng = SplitMix::new(seed);
+    (0..n)
+        .map(|_| Ray::new(lo + (hi - lo) * rng.vec3(), rng.direction()))
+        .collect()
+}
+
+/// Coherent rays: a `side` x `side` pinhole camera grid looking at the box's centre from
+/// outside it, the box filling the view.
+pub fn camera_rays((lo, hi): (DVec3, DVec3), side: usize) -> Vec<Ray> {
+    let centre = 0.5 * (lo + hi);
+    let radius = 0.5 * (hi - lo).length();
+    let eye = centre + DVec3::new(0.3, 0.4, 1.0).normalize() * radius * 2.5;
+    let forward = (centre - eye).normalize();
+    let right = forward.cross(DVec3::Y).normalize();
+    let up = right.cross(forward);
+    // Half-angle so that the bounding sphere just fits: sin = radius / distance.
+    let half = (radius / (eye - centre).length()).asin().tan();
+    let mut rays = Vec::with_capacity(side * side);
+    for j in 0..side {
+        for i in 0..side {
+            let x = (2.0 * (i as f64 + 0.5) / side as f64 - 1.0) * half;
+            let y = (1.0 - 2.0 * (j as f64 + 0.5) / side as f64) * half;
+            rays.push(Ray::new(eye, forward + x * right + y * up));
+        }
+    }
+    rays
+}
