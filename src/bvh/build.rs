@@ -1,11 +1,14 @@
 //! Binned SAH build (Wald 2007, "On fast Construction of SAH-based Bounding Volume
-//! Hierarchies"; pbrt-v4 `BVHAggregate::buildRecursive`).
+//! Hierarchies"; pbrt-v4 `BVHAggregate::buildRecursive`), on `f32` boxes rounded outward:
+//! the nodes store `f32` anyway, and 32-byte records halve the memory the build sweeps.
 
+use alloc::boxed::Box;
+use alloc::vec;
 use alloc::vec::Vec;
 
-use glam::DVec3;
+use glam::Vec4;
 
-use super::{Bvh, MAX_DEPTH, Node, Pair};
+use super::{Bvh, MAX_DEPTH, Pair};
 use crate::{Aabb, Hittable};
 
 /// Centroid bins per axis.
@@ -18,16 +21,66 @@ const TRAVERSAL_COST: f64 = 1.0;
 /// 2^32 of them, 32 more levels reach single objects, within MAX_DEPTH.
 const MEDIAN_FROM_DEPTH: usize = MAX_DEPTH - 33;
 
-/// What the build knows of one bounded object.
+/// A box in `f32`, as SIMD lanes `x, y, z, w` (`w` unused by the box).
 #[derive(Clone, Copy)]
-struct Prim {
-    min: DVec3,
-    max: DVec3,
-    centroid: DVec3,
-    index: u32,
+struct Box3 {
+    min: Vec4,
+    max: Vec4,
 }
 
-pub(super) fn build<T: Hittable>(objects: Vec<T>) -> Bvh<T> {
+impl Box3 {
+    const EMPTY: Self = Self {
+        min: Vec4::INFINITY,
+        max: Vec4::NEG_INFINITY,
+    };
+
+    #[inline]
+    fn grow(&mut self, min: Vec4, max: Vec4) {
+        self.min = self.min.min(min);
+        self.max = self.max.max(max);
+    }
+
+    /// Half the surface area (only ratios of areas matter); 0 for an empty box.
+    #[inline]
+    fn half_area(&self) -> f64 {
+        let d = (self.max - self.min).max(Vec4::ZERO);
+        let (x, y, z) = (f64::from(d.x), f64::from(d.y), f64::from(d.z));
+        x * y + y * z + z * x
+    }
+}
+
+/// One bounded object: its box, and in the `w` lane of `min` its position in the caller's
+/// list (as bits), so that a record is 32 bytes and moves as two SIMD registers. Those bits
+/// are read back, never computed with: as a float they are mostly subnormal, and arithmetic
+/// on subnormals is slow (`centroid2` clears the lane; `min`/`max` do not care).
+#[derive(Clone, Copy)]
+struct Prim {
+    min: Vec4,
+    max: Vec4,
+}
+
+impl Prim {
+    #[inline]
+    fn index(&self) -> u32 {
+        self.min.w.to_bits()
+    }
+
+    /// Twice the centroid (the factor cancels in every use), with `w` zero.
+    #[inline]
+    fn centroid2(&self) -> Vec4 {
+        (self.min + self.max).with_w(0.0)
+    }
+}
+
+/// A node as the build returns it, before it is written into its parent's pair.
+#[derive(Clone, Copy)]
+struct Child {
+    bounds: Box3,
+    index: u32,
+    count: u32,
+}
+
+pub(super) fn build<T: Hittable>(mut objects: Vec<T>) -> Bvh<T> {
     assert!(
         u32::try_from(objects.len()).is_ok(),
         "a Bvh holds at most u32::MAX objects"
@@ -38,190 +91,321 @@ pub(super) fn build<T: Hittable>(objects: Vec<T>) -> Bvh<T> {
     for (index, object) in (0u32..).zip(&objects) {
         let b = object.bounding_box();
         bbox = bbox.union(&b);
-        if b.is_bounded() {
-            let centroid = 0.5 * b.min() + 0.5 * b.max();
-            prims.push(Prim {
-                min: b.min(),
-                max: b.max(),
-                centroid,
-                index,
-            });
+        let [x0, y0, z0] = b.min().to_array().map(round_down);
+        let [x1, y1, z1] = b.max().to_array().map(round_up);
+        let (min, max) = (
+            Vec4::new(x0, y0, z0, f32::from_bits(index)),
+            Vec4::new(x1, y1, z1, 0.0),
+        );
+        // Infinite boxes (and boxes past f32's range) stay out of the SAH arithmetic: such
+        // objects are tested on every ray.
+        if b.is_bounded() && min.truncate().is_finite() && max.truncate().is_finite() {
+            prims.push(Prim { min, max });
         } else {
-            // Infinite (or empty) boxes stay out of the SAH arithmetic.
             unbounded.push(index);
         }
     }
 
-    let mut pairs = Vec::with_capacity(prims.len() / 2);
-    let root = if prims.is_empty() {
-        Node::default()
-    } else {
-        node(&mut prims, 0, 0, &mut pairs)
+    let mut builder = Builder {
+        pairs: Vec::new(),
+        bins: Box::new(Bins::default()),
     };
+    if !prims.is_empty() {
+        let empty = Child {
+            bounds: Box3::EMPTY,
+            index: 0,
+            count: 0,
+        };
+        builder.pairs.reserve(prims.len());
+        builder.pairs.push(pair(empty, empty));
+        let extent = Extent::of(&prims);
+        let root = builder.node(&mut prims, 0, 0, extent);
+        builder.pairs[0] = pair(root, empty);
+    }
+    let pairs = builder.pairs;
 
-    let order: Vec<u32> = prims.iter().map(|p| p.index).chain(unbounded).collect();
-    let mut slots: Vec<Option<T>> = objects.into_iter().map(Some).collect();
-    let objects = order
-        .iter()
-        .filter_map(|&i| slots[i as usize].take())
-        .collect();
+    let order: Vec<u32> = prims.iter().map(Prim::index).chain(unbounded).collect();
+    permute(&mut objects, &order);
     Bvh {
         objects,
         order,
         bounded: prims.len(),
-        root,
         pairs,
         bbox,
     }
 }
 
-/// Builds the subtree over `prims` (at position `offset` of the final order), returning its
-/// root node; inner nodes' children go to `pairs`, parents before children.
-fn node(prims: &mut [Prim], offset: usize, depth: usize, pairs: &mut Vec<Pair>) -> Node {
-    let (mut min, mut max) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
-    let (mut cmin, mut cmax) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
-    for p in prims.iter() {
-        (min, max) = (min.min(p.min), max.max(p.max));
-        (cmin, cmax) = (cmin.min(p.centroid), cmax.max(p.centroid));
-    }
-    let n = prims.len();
-    let leaf = Node {
-        min: round_down(min),
-        max: round_up(max),
-        index: offset as u32,
-        count: n as u32,
-    };
-    if n == 1 {
-        return leaf;
-    }
-
-    let split = if depth < MEDIAN_FROM_DEPTH {
-        sah_split(prims, min, max, cmin, cmax)
-    } else {
-        None
-    };
-    let mid = match split {
-        Some((cost, _, _)) if cost >= n as f64 && n <= MAX_LEAF => return leaf,
-        Some((_, axis, bin)) => partition(prims, |p| {
-            bin_of(p.centroid[axis], cmin[axis], cmax[axis]) <= bin
-        }),
-        None if n <= MAX_LEAF => return leaf,
-        None => n / 2,
-    };
-    // A split that leaves one side empty (or a median) becomes a median by centroid along
-    // the widest centroid axis: it always halves, so depth stays bounded.
-    let mid = if mid == 0 || mid == n {
-        let axis = (cmax - cmin).max_position();
-        prims.select_nth_unstable_by(n / 2, |a, b| a.centroid[axis].total_cmp(&b.centroid[axis]));
-        n / 2
-    } else {
-        mid
-    };
-
-    let pair = pairs.len();
-    pairs.push(Pair::default());
-    let (left, right) = prims.split_at_mut(mid);
-    let a = node(left, offset, depth + 1, pairs);
-    let b = node(right, offset + mid, depth + 1, pairs);
-    pairs[pair] = Pair([a, b]);
-    Node {
-        index: pair as u32,
-        count: 0,
-        ..leaf
+fn pair(a: Child, b: Child) -> Pair {
+    Pair {
+        min: [0, 1, 2].map(|axis| [a.bounds.min[axis], b.bounds.min[axis]]),
+        max: [0, 1, 2].map(|axis| [a.bounds.max[axis], b.bounds.max[axis]]),
+        index: [a.index, b.index],
+        count: [a.count, b.count],
     }
 }
 
-/// The bin of a centroid coordinate within `[lo, hi]` (`hi > lo`).
-#[inline]
-fn bin_of(c: f64, lo: f64, hi: f64) -> usize {
-    // The float-to-int cast saturates, and NaN becomes 0: always a valid bin.
-    (((c - lo) / (hi - lo) * BINS as f64) as usize).min(BINS - 1)
+/// The box of some objects and the box of their (doubled) centroids.
+#[derive(Clone, Copy)]
+struct Extent {
+    bounds: Box3,
+    centroids: Box3,
 }
 
-/// The cheapest split by the surface area heuristic: `(cost, axis, last bin on the left)`,
-/// cost in units of one object test; `None` when all centroids coincide.
-fn sah_split(
-    prims: &[Prim],
-    min: DVec3,
-    max: DVec3,
-    cmin: DVec3,
-    cmax: DVec3,
-) -> Option<(f64, usize, usize)> {
-    let parent_area = half_area(min, max);
-    let mut best: Option<(f64, usize, usize)> = None;
-    for axis in 0..3 {
-        let (lo, hi) = (cmin[axis], cmax[axis]);
-        if hi <= lo {
-            continue;
-        }
-        let mut count = [0usize; BINS];
-        let mut bounds = [(DVec3::INFINITY, DVec3::NEG_INFINITY); BINS];
+impl Extent {
+    const EMPTY: Self = Self {
+        bounds: Box3::EMPTY,
+        centroids: Box3::EMPTY,
+    };
+
+    fn of(prims: &[Prim]) -> Self {
+        let mut extent = Self::EMPTY;
         for p in prims {
-            let b = bin_of(p.centroid[axis], lo, hi);
+            extent.bounds.grow(p.min, p.max);
+            extent.centroids.grow(p.centroid2(), p.centroid2());
+        }
+        extent
+    }
+
+    fn grow(&mut self, other: &Self) {
+        self.bounds.grow(other.bounds.min, other.bounds.max);
+        self.centroids
+            .grow(other.centroids.min, other.centroids.max);
+    }
+}
+
+/// Per bin: how many objects, and their extent.
+struct Bins {
+    count: [u32; BINS],
+    extent: [Extent; BINS],
+}
+
+impl Default for Bins {
+    fn default() -> Self {
+        Self {
+            count: [0; BINS],
+            extent: [Extent::EMPTY; BINS],
+        }
+    }
+}
+
+/// The best split found by [`Builder::sah_split`].
+struct Split {
+    /// In units of one object test.
+    cost: f64,
+    axis: usize,
+    /// The last bin on the left.
+    bin: usize,
+    /// The extent of each side.
+    sides: [Extent; 2],
+}
+
+/// The pairs built so far, and the bins every node reuses.
+struct Builder {
+    pairs: Vec<Pair>,
+    bins: Box<Bins>,
+}
+
+impl Builder {
+    /// Builds the subtree over `prims` (at position `offset` of the final order) and
+    /// returns its root; the pairs of inner nodes go to `pairs`, parents before children.
+    fn node(&mut self, prims: &mut [Prim], offset: usize, depth: usize, extent: Extent) -> Child {
+        let n = prims.len();
+        let leaf = Child {
+            bounds: extent.bounds,
+            index: offset as u32,
+            count: n as u32,
+        };
+        if n == 1 {
+            return leaf;
+        }
+
+        let split = if depth < MEDIAN_FROM_DEPTH {
+            self.sah_split(prims, &extent)
+        } else {
+            None
+        };
+        let (mid, sides) = match split {
+            Some(split) if split.cost >= n as f64 && n <= MAX_LEAF => return leaf,
+            Some(split) => {
+                let binning = Binning::new(&extent.centroids, split.axis, n);
+                let lane = Vec4::AXES[split.axis];
+                let mid = partition(prims, |p| binning.bin(p.centroid2().dot(lane)) <= split.bin);
+                (mid, Some(split.sides))
+            }
+            None if n <= MAX_LEAF => return leaf,
+            None => (0, None),
+        };
+        // No SAH split (all centroids coincide, or deep in the tree), or one that leaves a
+        // side empty: a median by count along the widest centroid axis, which always halves.
+        let (mid, [left_extent, right_extent]) = match sides {
+            Some(sides) if mid != 0 && mid != n => (mid, sides),
+            _ => {
+                let width = (extent.centroids.max - extent.centroids.min).to_array();
+                let axis = (0..3)
+                    .max_by(|&a, &b| width[a].total_cmp(&width[b]))
+                    .unwrap_or(0);
+                prims.select_nth_unstable_by(n / 2, |a, b| {
+                    a.centroid2()[axis].total_cmp(&b.centroid2()[axis])
+                });
+                (
+                    n / 2,
+                    [Extent::of(&prims[..n / 2]), Extent::of(&prims[n / 2..])],
+                )
+            }
+        };
+
+        let slot = self.pairs.len();
+        self.pairs.push(pair(leaf, leaf));
+        let (left, right) = prims.split_at_mut(mid);
+        let a = self.node(left, offset, depth + 1, left_extent);
+        let b = self.node(right, offset + mid, depth + 1, right_extent);
+        self.pairs[slot] = pair(a, b);
+        Child {
+            bounds: extent.bounds,
+            index: slot as u32,
+            count: 0,
+        }
+    }
+
+    /// The cheapest split by the surface area heuristic along the axis where the
+    /// centroids spread widest (as pbrt-v4 does: a third of the binning work of trying all
+    /// three, for trees nearly as good); `None` when all centroids coincide. Each bin keeps
+    /// its objects' extent, so that the children's extents need no second pass.
+    fn sah_split(&mut self, prims: &[Prim], extent: &Extent) -> Option<Split> {
+        let centroids = &extent.centroids;
+        let width = (centroids.max - centroids.min).to_array();
+        let axis = (0..3).max_by(|&a, &b| width[a].total_cmp(&width[b]))?;
+        if width[axis] <= 0.0 {
+            return None;
+        }
+        let binning = Binning::new(centroids, axis, prims.len());
+        let bins = binning.bins;
+        let Bins {
+            count,
+            extent: bin_extent,
+        } = &mut *self.bins;
+        count[..bins].fill(0);
+        bin_extent[..bins].fill(Extent::EMPTY);
+        let lane = Vec4::AXES[axis];
+        for p in prims {
+            let c = p.centroid2();
+            let b = binning.bin(c.dot(lane));
             count[b] += 1;
-            bounds[b] = (bounds[b].0.min(p.min), bounds[b].1.max(p.max));
+            bin_extent[b].bounds.grow(p.min, p.max);
+            bin_extent[b].centroids.grow(c, c);
         }
-        // Sweep from the right for the area * count of every suffix, then from the left.
+
+        // Costs without the constant traversal cost and the division by the parent's
+        // area, which do not change which split is cheapest. Area times count of every
+        // suffix, then sweep from the left.
         let mut right_cost = [0.0; BINS];
-        let (mut acc, mut k) = ((DVec3::INFINITY, DVec3::NEG_INFINITY), 0);
-        for b in (1..BINS).rev() {
-            acc = (acc.0.min(bounds[b].0), acc.1.max(bounds[b].1));
+        let (mut acc, mut k) = (Box3::EMPTY, 0);
+        for b in (1..bins).rev() {
+            acc.grow(bin_extent[b].bounds.min, bin_extent[b].bounds.max);
             k += count[b];
-            right_cost[b] = if k == 0 {
-                0.0
-            } else {
-                half_area(acc.0, acc.1) * k as f64
-            };
+            right_cost[b] = acc.half_area() * f64::from(k);
         }
-        let (mut acc, mut k) = ((DVec3::INFINITY, DVec3::NEG_INFINITY), 0);
-        for b in 0..BINS - 1 {
-            acc = (acc.0.min(bounds[b].0), acc.1.max(bounds[b].1));
+        let mut best: Option<(f64, usize)> = None;
+        let (mut acc, mut k) = (Box3::EMPTY, 0);
+        for b in 0..bins - 1 {
+            acc.grow(bin_extent[b].bounds.min, bin_extent[b].bounds.max);
             k += count[b];
-            if k == 0 || k == prims.len() {
+            if k == 0 || k as usize == prims.len() {
                 continue;
             }
-            let cost = TRAVERSAL_COST
-                + (half_area(acc.0, acc.1) * k as f64 + right_cost[b + 1]) / parent_area;
-            if best.is_none_or(|(c, _, _)| cost < c) {
-                best = Some((cost, axis, b));
+            let cost = acc.half_area() * f64::from(k) + right_cost[b + 1];
+            if best.is_none_or(|(c, _)| cost < c) {
+                best = Some((cost, b));
             }
         }
+        let (cost, bin) = best?;
+        let side = |range: core::ops::Range<usize>| {
+            let mut side = Extent::EMPTY;
+            bin_extent[range].iter().for_each(|e| side.grow(e));
+            side
+        };
+        Some(Split {
+            cost: TRAVERSAL_COST + cost / extent.bounds.half_area(),
+            axis,
+            bin,
+            sides: [side(0..bin + 1), side(bin + 1..bins)],
+        })
     }
-    best
 }
 
-/// Half the surface area of a box (only ratios of areas matter).
+/// Maps centroid coordinates along one axis to `bins` bins.
+struct Binning {
+    lo: f32,
+    scale: f32,
+    bins: usize,
+}
+
+impl Binning {
+    /// As many bins as objects, up to `BINS`: small nodes are most nodes, and sweeping
+    /// empty bins is most of their cost.
+    fn new(centroids: &Box3, axis: usize, objects: usize) -> Self {
+        let bins = objects.clamp(2, BINS);
+        let (lo, hi) = (centroids.min[axis], centroids.max[axis]);
+        let scale = if hi > lo {
+            bins as f32 / (hi - lo)
+        } else {
+            0.0
+        };
+        Self { lo, scale, bins }
+    }
+
+    #[inline]
+    fn bin(&self, c: f32) -> usize {
+        bin_at((c - self.lo) * self.scale, self.bins)
+    }
+}
+
+/// The bin of a scaled centroid coordinate. The float-to-int cast saturates, and NaN
+/// becomes 0: always a valid bin.
 #[inline]
-fn half_area(min: DVec3, max: DVec3) -> f64 {
-    let d = (max - min).max(DVec3::ZERO);
-    d.x * d.y + d.y * d.z + d.z * d.x
+fn bin_at(x: f32, bins: usize) -> usize {
+    (x as usize).min(bins - 1)
 }
 
-/// Moves the prims satisfying `left` to the front; returns how many.
+/// Moves the prims satisfying `left` to the front; returns how many. Branch-free (the
+/// test is a coin toss on random input): `prims[mid..i]` are all on the right, so swapping
+/// `i` with `mid` either way keeps them there.
 fn partition(prims: &mut [Prim], left: impl Fn(&Prim) -> bool) -> usize {
     let mut mid = 0;
     for i in 0..prims.len() {
-        if left(&prims[i]) {
-            prims.swap(i, mid);
-            mid += 1;
-        }
+        let goes_left = left(&prims[i]);
+        prims.swap(i, mid);
+        mid += usize::from(goes_left);
     }
     mid
 }
 
-/// The largest `f32` at or below each coordinate: a box stored in `f32` still contains its
-/// `f64` original.
-fn round_down(v: DVec3) -> [f32; 3] {
-    v.to_array().map(|x| {
-        let f = x as f32;
-        if f64::from(f) > x { f.next_down() } else { f }
-    })
+/// Reorders `objects` in place so that position `i` holds the object that was at
+/// `order[i]`, following each cycle of the permutation once.
+fn permute<T>(objects: &mut [T], order: &[u32]) {
+    let mut done = vec![false; objects.len()];
+    for start in 0..objects.len() {
+        let mut at = start;
+        while !done[at] {
+            done[at] = true;
+            let from = order[at] as usize;
+            if from == start {
+                break;
+            }
+            objects.swap(at, from);
+            at = from;
+        }
+    }
 }
 
-/// The smallest `f32` at or above each coordinate.
-fn round_up(v: DVec3) -> [f32; 3] {
-    v.to_array().map(|x| {
-        let f = x as f32;
-        if f64::from(f) < x { f.next_up() } else { f }
-    })
+/// The largest `f32` at or below `x`: a box stored in `f32` still contains its `f64`
+/// original.
+fn round_down(x: f64) -> f32 {
+    let f = x as f32;
+    if f64::from(f) > x { f.next_down() } else { f }
+}
+
+/// The smallest `f32` at or above `x`.
+fn round_up(x: f64) -> f32 {
+    -round_down(-x)
 }

@@ -12,22 +12,19 @@ use crate::{Aabb, HitRecord, Hittable, Interval, Ray};
 /// median splits (which halve the count) well before it: see `build::MEDIAN_FROM_DEPTH`.
 const MAX_DEPTH: usize = 64;
 
-/// A node: its box in `f32` (rounded outward, so it still holds everything it must), and
-/// either two children (`count == 0`, `index` the pair) or a leaf (`count` objects from
-/// `index`). 32 bytes: a pair of siblings shares one 64-byte cache line.
-#[derive(Clone, Copy, Debug, Default)]
-#[repr(C)]
-struct Node {
-    min: [f32; 3],
-    index: u32,
-    max: [f32; 3],
-    count: u32,
-}
-
-/// Two sibling nodes, tested together, in one cache line.
-#[derive(Clone, Copy, Debug, Default)]
+/// Two sibling nodes, tested together, in one 64-byte cache line: their boxes in `f32`
+/// (rounded outward, so they still hold everything they must), axis by axis so that both
+/// are tested in the same instructions, and for each either two children (`count == 0`,
+/// `index` the pair that holds them) or a leaf (`count` objects from `index`). The root is
+/// child 0 of pair 0, beside an empty box.
+#[derive(Clone, Copy, Debug)]
 #[repr(C, align(64))]
-struct Pair([Node; 2]);
+struct Pair {
+    min: [[f32; 2]; 3],
+    max: [[f32; 2]; 3],
+    index: [u32; 2],
+    count: [u32; 2],
+}
 
 /// A bounding volume hierarchy: the closest hit (or any hit) among many objects without
 /// testing them all.
@@ -61,7 +58,7 @@ pub struct Bvh<T> {
     order: Vec<u32>,
     /// How many of `objects` are in the tree.
     bounded: usize,
-    root: Node,
+    /// Empty when no object is in the tree.
     pairs: Vec<Pair>,
     bbox: Aabb,
 }

@@ -1,25 +1,15 @@
 //! Front-to-back traversal with an explicit stack: no recursion, no allocation.
 
-use glam::DVec3;
-
-use super::{Bvh, MAX_DEPTH, Node};
-use crate::aabb::{BoxRay, slab_entry};
+use super::{Bvh, MAX_DEPTH, Pair};
+use crate::aabb::{BoxRay, slab_entries};
 use crate::{Hittable, Interval, Ray};
 
-/// Where the ray enters the node's box within `ray_t`, by the crate's one box test.
+/// Where the ray enters each of the two siblings within `ray_t` (`+inf`: it misses), by
+/// the crate's one box test.
 #[inline(always)]
-fn entry(node: &Node, ray: &BoxRay, ray_t: Interval) -> Option<f64> {
-    let min = DVec3::new(
-        f64::from(node.min[0]),
-        f64::from(node.min[1]),
-        f64::from(node.min[2]),
-    );
-    let max = DVec3::new(
-        f64::from(node.max[0]),
-        f64::from(node.max[1]),
-        f64::from(node.max[2]),
-    );
-    slab_entry(min, max, ray, ray_t)
+fn entries(pair: &Pair, ray: &BoxRay, ray_t: Interval) -> [f64; 2] {
+    let widen = |axes: &[[f32; 2]; 3]| axes.map(|lanes| lanes.map(f64::from));
+    slab_entries(widen(&pair.min), widen(&pair.max), ray, ray_t)
 }
 
 impl<T: Hittable> Bvh<T> {
@@ -41,47 +31,45 @@ impl<T: Hittable> Bvh<T> {
         if !unbounded.is_empty() && visit(unbounded, self.bounded, t_max) {
             return;
         }
-        if self.bounded == 0 {
+        if self.pairs.is_empty() {
             return;
         }
         let ray = BoxRay::new(ray);
-        if entry(&self.root, &ray, Interval::new(ray_t.min, *t_max)).is_none() {
-            return;
-        }
-        // At most one entry per level above the current node: the build keeps the depth
-        // below MAX_DEPTH.
-        let mut stack = [(Node::default(), 0.0f64); MAX_DEPTH];
+        // Pending nodes as (index, count, entry distance); at most one per level above the
+        // current node, and the build keeps the depth below MAX_DEPTH.
+        let mut stack = [(0u32, 0u32, 0.0f64); MAX_DEPTH];
         let mut pending = 0;
-        let mut node = self.root;
+        // The root is child 0 of pair 0 (beside an empty box): start as its parent would.
+        let (mut index, mut count) = (0u32, 0u32);
         loop {
-            if node.count == 0 {
-                let [a, b] = self.pairs[node.index as usize].0;
-                let range = Interval::new(ray_t.min, *t_max);
-                match (entry(&a, &ray, range), entry(&b, &ray, range)) {
-                    (Some(ta), Some(tb)) => {
+            if count == 0 {
+                let pair = &self.pairs[index as usize];
+                let [ta, tb] = entries(pair, &ray, Interval::new(ray_t.min, *t_max));
+                let (a, b) = (
+                    (pair.index[0], pair.count[0]),
+                    (pair.index[1], pair.count[1]),
+                );
+                match (ta < f64::INFINITY, tb < f64::INFINITY) {
+                    (true, true) => {
                         let (near, far, t_far) = if ta <= tb { (a, b, tb) } else { (b, a, ta) };
-                        stack[pending] = (far, t_far);
+                        stack[pending] = (far.0, far.1, t_far);
                         pending += 1;
-                        node = near;
+                        (index, count) = near;
                         continue;
                     }
-                    (Some(_), None) => {
-                        node = a;
+                    (true, false) => {
+                        (index, count) = a;
                         continue;
                     }
-                    (None, Some(_)) => {
-                        node = b;
+                    (false, true) => {
+                        (index, count) = b;
                         continue;
                     }
-                    (None, None) => {}
+                    (false, false) => {}
                 }
             } else {
-                let first = node.index as usize;
-                if visit(
-                    &self.objects[first..first + node.count as usize],
-                    first,
-                    t_max,
-                ) {
+                let first = index as usize;
+                if visit(&self.objects[first..first + count as usize], first, t_max) {
                     return;
                 }
             }
@@ -91,9 +79,9 @@ impl<T: Hittable> Bvh<T> {
                     return;
                 }
                 pending -= 1;
-                let (next, t_entry) = stack[pending];
+                let (i, c, t_entry) = stack[pending];
                 if t_entry <= *t_max {
-                    node = next;
+                    (index, count) = (i, c);
                     break;
                 }
             }
