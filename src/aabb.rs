@@ -174,7 +174,20 @@ pub(crate) fn slab_entries<const N: usize>(
     ray: &BoxRay,
     ray_t: Interval,
 ) -> [f64; N] {
-    let (mut t0, mut t1) = ([ray_t.min; N], [ray_t.max; N]);
+    // A box met only "at infinity" (a ray parallel to a slab and outside it gives an
+    // infinite near distance) is not hit: clamping the range to finite numbers makes such
+    // a box fail `t0 <= t1` (NaN ends stay NaN, and hit nothing).
+    let lo = if ray_t.min < -f64::MAX {
+        -f64::MAX
+    } else {
+        ray_t.min
+    };
+    let hi = if ray_t.max > f64::MAX {
+        f64::MAX
+    } else {
+        ray_t.max
+    };
+    let (mut t0, mut t1) = ([lo; N], [hi; N]);
     for axis in 0..3 {
         let (near, far) = if ray.negative[axis] {
             (max[axis], min[axis])
@@ -200,14 +213,7 @@ pub(crate) fn slab_entries<const N: usize>(
             }
         }
     }
-    // A ray parallel to a slab and outside it meets it only "at infinity".
-    core::array::from_fn(|k| {
-        if t0[k] <= t1[k] && t0[k] < f64::INFINITY && t1[k] > f64::NEG_INFINITY {
-            t0[k]
-        } else {
-            f64::INFINITY
-        }
-    })
+    core::array::from_fn(|k| if t0[k] <= t1[k] { t0[k] } else { f64::INFINITY })
 }
 
 impl Default for Aabb {
