@@ -56,6 +56,7 @@ extern crate alloc;
 
 mod aabb;
 mod bvh;
+mod cuboid;
 mod error;
 mod hittable;
 mod interior;
@@ -64,6 +65,8 @@ mod math;
 mod plane;
 mod quad;
 mod ray;
+mod sampling;
+mod transform;
 
 #[cfg(feature = "approx")]
 mod impl_approx;
@@ -72,6 +75,7 @@ pub use glam;
 
 pub use aabb::Aabb;
 pub use bvh::Bvh;
+pub use cuboid::Cuboid;
 pub use error::GeometryError;
 pub use hittable::{HitRecord, Hittable, MaterialId, PdfHittable};
 pub use interior::{Disk, Interior, Parallelogram, Ring, Triangle};
@@ -79,6 +83,8 @@ pub use interval::Interval;
 pub use plane::{Plane, PlaneHit};
 pub use quad::Quad;
 pub use ray::Ray;
+pub use sampling::SampleInterior;
+pub use transform::Transformed;
 
 /// The README's code blocks, run as doctests.
 #[cfg(doctest)]

@@ -38,3 +38,17 @@ pub(crate) fn unit_and_length(v: glam::DVec3) -> (glam::DVec3, f64) {
     let length = scaled.length();
     (scaled / length, length / scale)
 }
+
+/// `(sin x, cos x)`.
+#[inline]
+#[must_use]
+pub(crate) fn sin_cos(x: f64) -> (f64, f64) {
+    #[cfg(feature = "std")]
+    {
+        x.sin_cos()
+    }
+    #[cfg(not(feature = "std"))]
+    {
+        libm::sincos(x)
+    }
+}

@@ -34,9 +34,11 @@ pub struct Plane {
     /// The unit normal along `u x v`; unit length keeps `t` free of overflow for large
     /// edges and of underflow for small ones.
     normal: DVec3,
-    /// `(u x v) / |u x v|^2`: turns the cross products of a point with `u`, `v` into
-    /// coordinates.
-    w: DVec3,
+    /// `v x w` and `w x u`, with `w = (u x v) / |u x v|^2`: the plane coordinates of a
+    /// point `p - q` are `alpha = w.(p x v) = p.(v x w)` and `beta = w.(u x p) = p.(w x u)`,
+    /// two dot products per hit instead of two cross products and two dot products.
+    to_alpha: DVec3,
+    to_beta: DVec3,
     material: MaterialId,
 }
 
@@ -80,7 +82,8 @@ impl Plane {
             u,
             v,
             normal,
-            w: normal / n_len,
+            to_alpha: v.cross(normal / n_len),
+            to_beta: (normal / n_len).cross(u),
             material: MaterialId::default(),
         })
     }
@@ -121,6 +124,22 @@ impl Plane {
         self.normal
     }
 
+    /// `|u x v|`: the area of the parallelogram spanned by `u` and `v`, which is what a unit
+    /// of area in `(alpha, beta)` space covers on the plane. Computed on each call, as
+    /// `normal . (u x v)`, to within a few ulps; positive for every plane [`Plane::new`]
+    /// accepts.
+    ///
+    /// ```
+    /// use hitkit::{glam::DVec3, Plane};
+    /// let plane = Plane::new(DVec3::ZERO, DVec3::X * 2.0, DVec3::new(1.0, 3.0, 0.0)).unwrap();
+    /// assert_eq!(plane.uv_area(), 6.0);
+    /// ```
+    #[inline]
+    #[must_use]
+    pub fn uv_area(&self) -> f64 {
+        self.normal.dot(self.u.cross(self.v))
+    }
+
     /// The material id carried into hit records.
     #[inline]
     #[must_use]
@@ -139,17 +158,29 @@ impl Plane {
     #[inline]
     #[must_use]
     pub fn intersect(&self, ray: &Ray, ray_t: Interval) -> Option<PlaneHit> {
+        let numerator = self.normal.dot(self.q - ray.origin);
         let denom = self.normal.dot(ray.direction);
-        let t = self.normal.dot(self.q - ray.origin) / denom;
+        // The quotient is negative exactly when the signs differ: a plane behind a ray whose
+        // range starts at 0 or later is rejected before the (slow) division.
+        if ray_t.min >= 0.0 && numerator * denom < 0.0 {
+            return None;
+        }
+        let t = numerator / denom;
         // denom == 0 (parallel) gives an infinite or NaN t; an overflowed denom a false 0.
-        if !(t.is_finite() && denom.is_finite() && ray_t.contains(t)) {
+        // (Float comparisons, not `is_finite`: this is the hottest branch of a render.)
+        let finite = (t.abs() < f64::INFINITY) & (denom.abs() < f64::INFINITY);
+        if !(finite && ray_t.contains(t)) {
             return None;
         }
         let p = (ray.origin - self.q) + t * ray.direction;
-        let alpha = self.w.dot(p.cross(self.v));
-        let beta = self.w.dot(self.u.cross(p));
+        let alpha = p.dot(self.to_alpha);
+        let beta = p.dot(self.to_beta);
         // Non-finite coordinates mean a non-finite ray (or an overflow): no hit, no NaN.
-        (alpha.is_finite() && beta.is_finite()).then_some(PlaneHit { t, alpha, beta })
+        ((alpha.abs() < f64::INFINITY) & (beta.abs() < f64::INFINITY)).then_some(PlaneHit {
+            t,
+            alpha,
+            beta,
+        })
     }
 
     /// The hit record for a hit found by [`Plane::intersect`], with surface coordinates

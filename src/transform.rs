@@ -1,0 +1,227 @@
+//! Rigid motions of any hittable: the book's `rotate_y` and `translate` instances.
+
+use glam::{BVec3, DMat3, DQuat, DVec2, DVec3, DVec4};
+
+use crate::math::{gamma, sin_cos};
+use crate::{Aabb, GeometryError, HitRecord, Hittable, Interval, PdfHittable, Ray};
+
+/// `object` moved rigidly: rotated about the origin, then translated. Rays are taken into
+/// the object's space (`t` is unchanged by a rigid motion), hit there, and the hit comes
+/// back; nothing about the object is copied or rebuilt.
+///
+/// Solid-angle densities do not change under a rigid motion either, so a transformed
+/// [`PdfHittable`] stays one.
+///
+/// ```
+/// use hitkit::glam::DVec3;
+/// use hitkit::{Cuboid, Hittable, Interval, Ray, Transformed};
+///
+/// # fn main() -> Result<(), hitkit::GeometryError> {
+/// // The book's tall box: turned 15 degrees about y, then moved into place.
+/// let tall = Cuboid::new(DVec3::ZERO, DVec3::new(165.0, 330.0, 165.0))?;
+/// let tall = Transformed::translate(Transformed::rotate_y(tall, 15.0)?, DVec3::new(265.0, 0.0, 295.0))?;
+///
+/// let down = Ray::new(DVec3::new(350.0, 1000.0, 375.0), DVec3::new(0.0, -1.0, 0.0));
+/// let hit = tall.hit(&down, Interval::new(0.0, f64::INFINITY)).unwrap();
+/// // A turn about y leaves y coordinates alone, exactly: so is the top face's hit.
+/// assert_eq!((hit.t, hit.normal), (670.0, DVec3::Y));
+/// assert!(tall.bounding_box().contains(hit.point));
+/// # Ok(())
+/// # }
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Transformed<T> {
+    object: T,
+    /// Object to world.
+    rotation: DMat3,
+    /// World to object: the transpose, the inverse of a rotation.
+    inverse: DMat3,
+    translation: DVec3,
+    bbox: Aabb,
+}
+
+impl<T: Hittable> Transformed<T> {
+    /// `object` rotated by `rotation` (normalized here), then moved by `translation`.
+    ///
+    /// # Errors
+    /// [`GeometryError::NonFinite`] for a NaN or infinite `rotation` or `translation`,
+    /// [`GeometryError::ZeroVector`] for a zero quaternion.
+    pub fn new(object: T, rotation: DQuat, translation: DVec3) -> Result<Self, GeometryError> {
+        if !rotation.is_finite() {
+            return Err(GeometryError::NonFinite { what: "rotation" });
+        }
+        let largest = DVec4::from(rotation).abs().max_element();
+        if largest == 0.0 {
+            return Err(GeometryError::ZeroVector { what: "rotation" });
+        }
+        // Scaled first, so that the length neither overflows nor underflows.
+        let unit = (rotation / largest).normalize();
+        Self::from_matrix(object, DMat3::from_quat(unit), translation)
+    }
+
+    /// `object` rotated by `degrees` about the y axis (from z toward x, as the book's
+    /// `rotate_y`). Multiples of 90 degrees give an exact matrix of 0s and ±1s.
+    ///
+    /// # Errors
+    /// [`GeometryError::NonFinite`] for a NaN or infinite angle.
+    pub fn rotate_y(object: T, degrees: f64) -> Result<Self, GeometryError> {
+        if !degrees.is_finite() {
+            return Err(GeometryError::NonFinite {
+                what: "rotation angle",
+            });
+        }
+        // `%` is exact, so whole quarter turns are recognized whatever the multiple of 360.
+        let (sin, cos) = match degrees % 360.0 {
+            0.0 => (0.0, 1.0),
+            90.0 | -270.0 => (1.0, 0.0),
+            180.0 | -180.0 => (0.0, -1.0),
+            270.0 | -90.0 => (-1.0, 0.0),
+            reduced => sin_cos(reduced.to_radians()),
+        };
+        let rotation = DMat3::from_cols(
+            DVec3::new(cos, 0.0, -sin),
+            DVec3::Y,
+            DVec3::new(sin, 0.0, cos),
+        );
+        Self::from_matrix(object, rotation, DVec3::ZERO)
+    }
+
+    /// `object` moved by `offset`.
+    ///
+    /// # Errors
+    /// [`GeometryError::NonFinite`] for a NaN or infinite offset.
+    pub fn translate(object: T, offset: DVec3) -> Result<Self, GeometryError> {
+        Self::from_matrix(object, DMat3::IDENTITY, offset)
+    }
+
+    fn from_matrix(object: T, rotation: DMat3, translation: DVec3) -> Result<Self, GeometryError> {
+        if !translation.is_finite() {
+            return Err(GeometryError::NonFinite {
+                what: "translation",
+            });
+        }
+        let bbox = world_box(&object.bounding_box(), &rotation, translation);
+        Ok(Self {
+            object,
+            rotation,
+            inverse: rotation.transpose(),
+            translation,
+            bbox,
+        })
+    }
+}
+
+impl<T> Transformed<T> {
+    /// The object, in its own space.
+    #[inline]
+    #[must_use]
+    pub fn object(&self) -> &T {
+        &self.object
+    }
+
+    /// The rotation, object to world.
+    #[inline]
+    #[must_use]
+    pub fn rotation(&self) -> DMat3 {
+        self.rotation
+    }
+
+    /// The translation, applied after the rotation.
+    #[inline]
+    #[must_use]
+    pub fn translation(&self) -> DVec3 {
+        self.translation
+    }
+
+    /// A world-space point in object space.
+    #[inline]
+    fn point_to_object(&self, p: DVec3) -> DVec3 {
+        self.inverse * (p - self.translation)
+    }
+
+    #[inline]
+    fn ray_to_object(&self, ray: &Ray) -> Ray {
+        Ray::new(
+            self.point_to_object(ray.origin),
+            self.inverse * ray.direction,
+        )
+    }
+
+    /// An object-space hit in world space.
+    ///
+    /// The point's error bound: the object's bound `e` is carried through the rotation as
+    /// `|R| e`, and computing `R p + t` adds its own rounding. Each coordinate of `R p + t`
+    /// is a sum of three products and `t`: every term is rounded at most 4 times (one
+    /// product, three sums), so the error is at most `gamma(4) (|R| |p| + |t|)`
+    /// componentwise (Higham 3.1). One more rounding each, `(1 + gamma(4))` on the carried
+    /// part and `gamma(5)` on the new one, covers the evaluation of the bound itself.
+    #[inline]
+    fn hit_to_world(&self, hit: HitRecord) -> HitRecord {
+        let abs = self.rotation.abs();
+        let carried = (1.0 + gamma(4)) * (abs * hit.point_error);
+        let rounding = gamma(5) * (abs * hit.point.abs() + self.translation.abs());
+        HitRecord {
+            point: self.rotation * hit.point + self.translation,
+            point_error: carried + rounding,
+            // Unit length to within a few ulps: the rotation is orthonormal to rounding.
+            normal: self.rotation * hit.normal,
+            ..hit
+        }
+    }
+}
+
+/// The box of the 8 moved corners of `bbox`, grown by the rounding of moving them (as in
+/// `hit_to_world`): it holds the exact moved box, so the moved object.
+fn world_box(bbox: &Aabb, rotation: &DMat3, translation: DVec3) -> Aabb {
+    if bbox.is_empty() {
+        return Aabb::EMPTY;
+    }
+    if !bbox.is_bounded() {
+        return Aabb::UNIVERSE;
+    }
+    let (lo, hi) = (bbox.min(), bbox.max());
+    let corners: [DVec3; 8] = core::array::from_fn(|i| {
+        let pick = BVec3::new(i & 1 != 0, i & 2 != 0, i & 4 != 0);
+        *rotation * DVec3::select(pick, hi, lo) + translation
+    });
+    let magnitude = lo.abs().max(hi.abs());
+    Aabb::from_points(&corners).grown(gamma(5) * (rotation.abs() * magnitude + translation.abs()))
+}
+
+impl<T: Hittable> Hittable for Transformed<T> {
+    #[inline]
+    fn hit(&self, ray: &Ray, ray_t: Interval) -> Option<HitRecord> {
+        let hit = self.object.hit(&self.ray_to_object(ray), ray_t)?;
+        Some(self.hit_to_world(hit))
+    }
+
+    /// The box of the object's box moved, grown by the rounding of moving it;
+    /// [`Aabb::UNIVERSE`] if the object's box is unbounded.
+    #[inline]
+    fn bounding_box(&self) -> Aabb {
+        self.bbox
+    }
+
+    #[inline]
+    fn occluded(&self, ray: &Ray, ray_t: Interval) -> bool {
+        self.object.occluded(&self.ray_to_object(ray), ray_t)
+    }
+}
+
+impl<T: PdfHittable> PdfHittable for Transformed<T> {
+    /// The object's density for the same direction in its own space: densities over solid
+    /// angle are unchanged by a rigid motion.
+    #[inline]
+    fn pdf_value(&self, origin: DVec3, direction: DVec3) -> f64 {
+        self.object
+            .pdf_value(self.point_to_object(origin), self.inverse * direction)
+    }
+
+    #[inline]
+    fn sample_direction(&self, origin: DVec3, u: DVec2) -> DVec3 {
+        self.rotation
+            * self
+                .object
+                .sample_direction(self.point_to_object(origin), u)
+    }
+}
