@@ -1,0 +1,148 @@
+//! The examples' command line, and writing the image.
+
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::time::Instant;
+
+use hitkit::Hittable;
+
+use super::Color;
+use super::Scene;
+use super::render::{Rendered, Settings, render};
+
+/// What each example may change from the command line, with its defaults.
+#[derive(Clone, Debug)]
+pub struct Options {
+    pub width: usize,
+    pub samples: usize,
+    pub depth: usize,
+    pub seed: u64,
+    pub output: PathBuf,
+    pub threads: usize,
+}
+
+impl Options {
+    fn usage(&self, example: &str) -> String {
+        format!(
+            "Renders the {example} scene to a PNG.\n\n\
+             Usage: cargo run --release --example {example} -- [OPTIONS]\n\n\
+             Options:\n  \
+             --width N     image width in pixels [default: {}]\n  \
+             --samples N   samples per pixel [default: {}]\n  \
+             --depth N     longest path, in bounces [default: {}]\n  \
+             --seed S      random seed; the same seed gives the same image [default: {}]\n  \
+             --output PATH where to write the PNG [default: {}]\n  \
+             --threads N   worker threads, 0 for one per core [default: {}]\n  \
+             -h, --help    this text",
+            self.width,
+            self.samples,
+            self.depth,
+            self.seed,
+            self.output.display(),
+            self.threads
+        )
+    }
+
+    /// `Ok(None)` for `--help`.
+    fn parse(mut self, args: impl IntoIterator<Item = String>) -> Result<Option<Self>, String> {
+        let mut args = args.into_iter();
+        while let Some(flag) = args.next() {
+            if flag == "-h" || flag == "--help" {
+                return Ok(None);
+            }
+            let mut value = || args.next().ok_or_else(|| format!("{flag} needs a value"));
+            let count = |v: String, min: usize| match v.parse::<usize>() {
+                Ok(n) if n >= min => Ok(n),
+                _ => Err(format!(
+                    "{flag}: `{v}` is not a whole number of at least {min}"
+                )),
+            };
+            match flag.as_str() {
+                "--width" => self.width = count(value()?, 1)?,
+                "--samples" => self.samples = count(value()?, 1)?,
+                "--depth" => self.depth = count(value()?, 1)?,
+                "--threads" => self.threads = count(value()?, 0)?,
+                "--seed" => {
+                    let v = value()?;
+                    self.seed = v
+                        .parse()
+                        .map_err(|_| format!("--seed: `{v}` is not a whole number"))?;
+                }
+                "--output" => self.output = PathBuf::from(value()?),
+                other => return Err(format!("unknown option `{other}`")),
+            }
+        }
+        Ok(Some(self))
+    }
+}
+
+/// The whole of an example's `main`: parse the options (starting from `defaults`), build the
+/// scene for them, render with the effects it calls for, write the PNG, and say where and
+/// how long it took.
+pub fn run<W: Hittable>(
+    example: &str,
+    defaults: Options,
+    scene: impl FnOnce(&Options) -> Scene<W>,
+) -> ExitCode {
+    let options = match defaults.clone().parse(std::env::args().skip(1)) {
+        Ok(Some(options)) => options,
+        Ok(None) => {
+            println!("{}", defaults.usage(example));
+            return ExitCode::SUCCESS;
+        }
+        Err(message) => {
+            eprintln!("error: {message}\n\n{}", defaults.usage(example));
+            return ExitCode::from(2);
+        }
+    };
+    let scene = scene(&options);
+    let settings = Settings {
+        samples: options.samples,
+        max_depth: options.depth,
+        seed: options.seed,
+        threads: options.threads,
+        progress: true,
+    };
+    let start = Instant::now();
+    let image = match render(&scene, &settings, scene.effects()) {
+        Ok(image) => image,
+        Err(message) => {
+            eprintln!("error: {message}");
+            return ExitCode::FAILURE;
+        }
+    };
+    let elapsed = start.elapsed();
+    if let Err(e) = write_png(&options.output, &image) {
+        eprintln!("error: cannot write {}: {e}", options.output.display());
+        return ExitCode::FAILURE;
+    }
+    println!(
+        "wrote {} ({}x{}, {} samples per pixel) in {:.2} s",
+        options.output.display(),
+        image.width,
+        image.height,
+        options.samples,
+        elapsed.as_secs_f64()
+    );
+    ExitCode::SUCCESS
+}
+
+/// 8-bit sRGB with the book's gamma 2.
+pub fn to_rgb8(c: Color) -> [u8; 3] {
+    let byte = |x: f64| (256.0 * x.max(0.0).sqrt().clamp(0.0, 0.999)) as u8;
+    [byte(c.x), byte(c.y), byte(c.z)]
+}
+
+pub fn write_png(path: &Path, image: &Rendered) -> Result<(), String> {
+    let file = std::fs::File::create(path).map_err(|e| e.to_string())?;
+    let mut encoder = png::Encoder::new(
+        std::io::BufWriter::new(file),
+        image.width as u32,
+        image.height as u32,
+    );
+    encoder.set_color(png::ColorType::Rgb);
+    encoder.set_depth(png::BitDepth::Eight);
+    let mut writer = encoder.write_header().map_err(|e| e.to_string())?;
+    let data: Vec<u8> = image.pixels.iter().flat_map(|c| to_rgb8(*c)).collect();
+    writer.write_image_data(&data).map_err(|e| e.to_string())
+}

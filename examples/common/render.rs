@@ -1,0 +1,233 @@
+//! The integrator and the parallel loop over pixels.
+
+use std::f64::consts::PI;
+use std::io::IsTerminal;
+
+use hitkit::glam::{DVec2, DVec3};
+use hitkit::{Hittable, Interval, Ray};
+use indicatif::{ProgressBar, ProgressStyle};
+use rand::rngs::SmallRng;
+use rand::{RngExt, SeedableRng};
+use rayon::prelude::*;
+
+use super::camera::Camera;
+use super::material::{Scatter, cosine_direction};
+use super::{Color, Effects, Scene};
+
+/// How to render, as opposed to what.
+#[derive(Clone, Copy, Debug)]
+pub struct Settings {
+    pub samples: usize,
+    pub max_depth: usize,
+    pub seed: u64,
+    /// Worker threads; 0 for one per core.
+    pub threads: usize,
+    /// Show a progress bar (on stderr) when stdout is a terminal.
+    pub progress: bool,
+}
+
+/// A rendered image in linear RGB, with what a test needs to judge it.
+pub struct Rendered {
+    pub width: usize,
+    pub height: usize,
+    /// Mean radiance of each pixel, row by row from the top.
+    pub pixels: Vec<Color>,
+    /// Estimated variance of each pixel's mean luminance (sample variance / samples).
+    pub variance: Vec<f64>,
+}
+
+impl Rendered {
+    /// The mean luminance of the image and the standard error of that mean (pixels are
+    /// independent: the variances of their means add).
+    pub fn mean_luminance(&self) -> (f64, f64) {
+        let n = self.pixels.len() as f64;
+        let mean = self.pixels.iter().map(|c| luminance(*c)).sum::<f64>() / n;
+        let variance = self.variance.iter().sum::<f64>() / (n * n);
+        (mean, variance.sqrt())
+    }
+}
+
+/// Bounces after which Russian roulette may end a path: it continues with probability
+/// `p` (the throughput's largest channel, at most 0.95) and is divided by `p` when it does,
+/// so the estimate stays unbiased.
+const ROULETTE_FROM: usize = 3;
+
+const FORWARD: Interval = Interval::new(0.0, f64::INFINITY);
+
+/// Renders `scene` with exactly the effects `effects` (normally `scene.effects()`): the
+/// choice picks one monomorphized integrator for the whole image, so nothing is decided
+/// per ray.
+pub fn render<W: Hittable>(
+    scene: &Scene<W>,
+    settings: &Settings,
+    effects: Effects,
+) -> Result<Rendered, String> {
+    // Four switches, sixteen integrators: each knows at compile time what it skips.
+    macro_rules! dispatch {
+        ($($bg:literal $em:literal $ls:literal $lens:literal),*) => {
+            match (effects.background, effects.emission, effects.light_sampling, effects.defocus) {
+                $(($bg, $em, $ls, $lens) => render_with::<W, $bg, $em, $ls, $lens>(scene, settings),)*
+            }
+        };
+    }
+    dispatch!(
+        false false false false, false false false true, false false true false, false false true true,
+        false true false false, false true false true, false true true false, false true true true,
+        true false false false, true false false true, true false true false, true false true true,
+        true true false false, true true false true, true true true false, true true true true
+    )
+}
+
+fn render_with<
+    W: Hittable,
+    const BG: bool,
+    const EMIT: bool,
+    const LIGHTS: bool,
+    const LENS: bool,
+>(
+    scene: &Scene<W>,
+    settings: &Settings,
+) -> Result<Rendered, String> {
+    let (width, height) = (scene.camera.width, scene.camera.height);
+    let camera = Camera::new(&scene.camera);
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(settings.threads)
+        .build()
+        .map_err(|e| format!("cannot start {} threads: {e}", settings.threads))?;
+    let bar = if settings.progress && std::io::stdout().is_terminal() {
+        let bar = ProgressBar::new(height as u64);
+        if let Ok(style) = ProgressStyle::with_template(
+            "{elapsed_precise} [{bar:40}] {pos}/{len} rows, {eta} left",
+        ) {
+            bar.set_style(style);
+        }
+        bar
+    } else {
+        ProgressBar::hidden()
+    };
+
+    let rows: Vec<Vec<(Color, f64)>> = pool.install(|| {
+        (0..height)
+            .into_par_iter()
+            .map(|j| {
+                let row = (0..width)
+                    .map(|i| pixel::<W, EMIT, BG, LIGHTS, LENS>(scene, &camera, settings, i, j))
+                    .collect();
+                bar.inc(1);
+                row
+            })
+            .collect()
+    });
+    bar.finish_and_clear();
+    let (pixels, variance) = rows.into_iter().flatten().unzip();
+    Ok(Rendered {
+        width,
+        height,
+        pixels,
+        variance,
+    })
+}
+
+/// Every sample of pixel (i, j), from a generator seeded by the seed and the pixel alone,
+/// so that the image does not depend on how pixels are spread over threads.
+fn pixel<W: Hittable, const EMIT: bool, const BG: bool, const LIGHTS: bool, const LENS: bool>(
+    scene: &Scene<W>,
+    camera: &Camera,
+    settings: &Settings,
+    i: usize,
+    j: usize,
+) -> (Color, f64) {
+    let index = (j * scene.camera.width + i) as u64;
+    let mut rng =
+        SmallRng::seed_from_u64(settings.seed ^ index.wrapping_mul(0x9e37_79b9_7f4a_7c15));
+    let (mut sum, mut sum_l, mut sum_l2) = (Color::ZERO, 0.0, 0.0);
+    for _ in 0..settings.samples {
+        let ray = camera.ray::<LENS>(i, j, &mut rng);
+        let c = radiance::<W, BG, EMIT, LIGHTS>(scene, ray, settings.max_depth, &mut rng);
+        let l = luminance(c);
+        sum += c;
+        sum_l += l;
+        sum_l2 += l * l;
+    }
+    let n = settings.samples as f64;
+    let variance = if settings.samples > 1 {
+        (sum_l2 - sum_l * sum_l / n).max(0.0) / (n - 1.0) / n
+    } else {
+        0.0
+    };
+    (sum / n, variance)
+}
+
+/// The radiance arriving along `ray`: a path traced iteratively.
+#[inline]
+fn radiance<W: Hittable, const BG: bool, const EMIT: bool, const LIGHTS: bool>(
+    scene: &Scene<W>,
+    mut ray: Ray,
+    max_depth: usize,
+    rng: &mut SmallRng,
+) -> Color {
+    let mut color = Color::ZERO;
+    let mut throughput = Color::ONE;
+    for depth in 0..max_depth {
+        let Some(hit) = scene.world.hit(&ray, FORWARD) else {
+            if BG {
+                color += throughput * scene.background.color(ray.direction);
+            }
+            break;
+        };
+        let material = &scene.materials[hit.material.0 as usize];
+        if EMIT {
+            color += throughput * material.emitted(&hit);
+        }
+        let direction = match material.scatter(ray.direction, &hit, rng) {
+            Scatter::None => break,
+            Scatter::Specular(direction, attenuation) => {
+                throughput *= attenuation;
+                direction
+            }
+            Scatter::Diffuse(albedo) if LIGHTS && !scene.lights.is_empty() => {
+                // Half the samples toward a light, half cosine-weighted; the weight is the
+                // Lambertian density over the mixture's.
+                let lights = &scene.lights;
+                let direction = if rng.random::<f64>() < 0.5 {
+                    let light = &lights
+                        [(rng.random::<f64>() * lights.len() as f64) as usize % lights.len()];
+                    light.sample_direction(hit.point, DVec2::new(rng.random(), rng.random()))
+                } else {
+                    cosine_direction(hit.normal, rng)
+                };
+                let cos = direction.normalize().dot(hit.normal);
+                if cos.is_nan() || cos <= 0.0 {
+                    break; // below the surface: the Lambertian density there is 0
+                }
+                let light_pdf = lights
+                    .iter()
+                    .map(|l| l.pdf_value(hit.point, direction))
+                    .sum::<f64>()
+                    / lights.len() as f64;
+                let mixture = 0.5 * cos / PI + 0.5 * light_pdf;
+                throughput *= albedo * (cos / PI / mixture);
+                direction
+            }
+            Scatter::Diffuse(albedo) => {
+                throughput *= albedo;
+                cosine_direction(hit.normal, rng)
+            }
+        };
+        ray = hit.spawn_ray(direction);
+        if depth >= ROULETTE_FROM {
+            let p = throughput.max_element().min(0.95);
+            if p.is_nan() || rng.random::<f64>() >= p {
+                break;
+            }
+            throughput /= p;
+        }
+    }
+    color
+}
+
+/// Rec. 709 luminance.
+#[inline]
+pub fn luminance(c: Color) -> f64 {
+    c.dot(DVec3::new(0.2126, 0.7152, 0.0722))
+}

@@ -1,0 +1,23 @@
+//! The Cornell box of "Ray Tracing: The Rest of Your Life", with light sampling: half the
+//! diffuse bounces aim at the light through `PdfHittable`, weighted by the mixture density.
+//!
+//! `cargo run --release --example cornell` writes `cornell.png`; `-- --help` lists the options.
+
+mod common;
+
+use std::process::ExitCode;
+
+use common::cli::{Options, run};
+use common::scenes::cornell_scene;
+
+fn main() -> ExitCode {
+    let defaults = Options {
+        width: 300,
+        samples: 100,
+        depth: 50,
+        seed: 0,
+        output: "cornell.png".into(),
+        threads: 0,
+    };
+    run("cornell", defaults, |o| cornell_scene(o.width))
+}
