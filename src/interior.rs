@@ -39,6 +39,52 @@ pub trait Interior: Send + Sync {
     fn bounding_box(&self, plane: &Plane) -> Aabb {
         plane.bounding_box()
     }
+
+    /// Whether the shape accepts points near its edges that [`Interior::contains`]
+    /// rejected, within the rounding error of their coordinates (see
+    /// [`Interior::contains_within`]). Default: no.
+    #[inline]
+    fn widens(&self) -> bool {
+        false
+    }
+
+    /// Whether `(alpha, beta)` lies within `err_alpha` and `err_beta` of the shape: the
+    /// exact intersection could be inside it. Called (when [`Interior::widens`]) for
+    /// points that `contains` rejected, with the bounds of
+    /// [`Plane::coordinate_error`], so that rays through an edge shared by two shapes
+    /// hit one of them. Default: `contains(alpha, beta)`.
+    #[inline]
+    fn contains_within(&self, alpha: f64, beta: f64, err_alpha: f64, err_beta: f64) -> bool {
+        let _ = (err_alpha, err_beta);
+        self.contains(alpha, beta)
+    }
+}
+
+/// A shape tested exactly, without the rounding-error widening of its edges: a little
+/// faster where rays often hit planes outside their shapes, but a ray through an edge shared
+/// by two shapes may then slip between them. See the README's accuracy table.
+///
+/// ```
+/// use hitkit::{glam::DVec3, Exact, Parallelogram, Quad};
+/// let fast = Quad::with_interior(DVec3::ZERO, DVec3::X, DVec3::Y, Exact(Parallelogram)).unwrap();
+/// ```
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Exact<S>(pub S);
+
+impl<S: Interior> Interior for Exact<S> {
+    #[inline]
+    fn contains(&self, alpha: f64, beta: f64) -> bool {
+        self.0.contains(alpha, beta)
+    }
+
+    #[inline]
+    fn uv(&self, alpha: f64, beta: f64) -> DVec2 {
+        self.0.uv(alpha, beta)
+    }
+
+    fn bounding_box(&self, plane: &Plane) -> Aabb {
+        self.0.bounding_box(plane)
+    }
 }
 
 impl<F: Fn(f64, f64) -> bool + Send + Sync> Interior for F {
@@ -59,6 +105,17 @@ impl Interior for Parallelogram {
         (0.0..=1.0).contains(&alpha) && (0.0..=1.0).contains(&beta)
     }
 
+    #[inline]
+    fn widens(&self) -> bool {
+        true
+    }
+
+    #[inline]
+    fn contains_within(&self, alpha: f64, beta: f64, err_alpha: f64, err_beta: f64) -> bool {
+        (-err_alpha..=1.0 + err_alpha).contains(&alpha)
+            && (-err_beta..=1.0 + err_beta).contains(&beta)
+    }
+
     fn bounding_box(&self, plane: &Plane) -> Aabb {
         let (q, u, v) = (plane.q(), plane.u(), plane.v());
         Aabb::from_points(&[q, q + u, q + v, q + u + v]).grown(corner_rounding(plane))
@@ -74,6 +131,18 @@ impl Interior for Triangle {
     #[inline]
     fn contains(&self, alpha: f64, beta: f64) -> bool {
         alpha >= 0.0 && beta >= 0.0 && alpha + beta <= 1.0
+    }
+
+    #[inline]
+    fn widens(&self) -> bool {
+        true
+    }
+
+    /// The sum's own rounding (`u_r |alpha + beta|`) is added to the slack.
+    #[inline]
+    fn contains_within(&self, alpha: f64, beta: f64, err_alpha: f64, err_beta: f64) -> bool {
+        let slack = err_alpha + err_beta + gamma(2) * (alpha.abs() + beta.abs());
+        alpha >= -err_alpha && beta >= -err_beta && alpha + beta <= 1.0 + slack
     }
 
     fn bounding_box(&self, plane: &Plane) -> Aabb {
@@ -94,6 +163,16 @@ impl Interior for Disk {
     #[inline]
     fn contains(&self, alpha: f64, beta: f64) -> bool {
         alpha * alpha + beta * beta <= 1.0
+    }
+
+    #[inline]
+    fn widens(&self) -> bool {
+        true
+    }
+
+    #[inline]
+    fn contains_within(&self, alpha: f64, beta: f64, err_alpha: f64, err_beta: f64) -> bool {
+        nearest_r2(alpha, beta, err_alpha, err_beta) <= 1.0 + gamma(3)
     }
 
     #[inline]
@@ -152,6 +231,19 @@ impl Interior for Ring {
     }
 
     #[inline]
+    fn widens(&self) -> bool {
+        true
+    }
+
+    #[inline]
+    fn contains_within(&self, alpha: f64, beta: f64, err_alpha: f64, err_beta: f64) -> bool {
+        let (a, b) = (alpha.abs() + err_alpha, beta.abs() + err_beta);
+        let farthest_r2 = a * a + b * b;
+        nearest_r2(alpha, beta, err_alpha, err_beta) <= 1.0 + gamma(3)
+            && farthest_r2 >= self.inner * self.inner * (1.0 - gamma(3))
+    }
+
+    #[inline]
     fn uv(&self, alpha: f64, beta: f64) -> DVec2 {
         disk_uv(alpha, beta)
     }
@@ -159,6 +251,17 @@ impl Interior for Ring {
     fn bounding_box(&self, plane: &Plane) -> Aabb {
         ellipse_box(plane)
     }
+}
+
+/// The smallest `alpha^2 + beta^2` within the errors of the point: each coordinate moved
+/// toward 0 by its error (and no further). `gamma(3)` of slack covers the squares and sum.
+#[inline]
+fn nearest_r2(alpha: f64, beta: f64, err_alpha: f64, err_beta: f64) -> f64 {
+    let (a, b) = (
+        (alpha.abs() - err_alpha).max(0.0),
+        (beta.abs() - err_beta).max(0.0),
+    );
+    a * a + b * b
 }
 
 #[inline]

@@ -78,7 +78,7 @@ pub use bvh::Bvh;
 pub use cuboid::Cuboid;
 pub use error::GeometryError;
 pub use hittable::{HitRecord, Hittable, MaterialId, PdfHittable};
-pub use interior::{Disk, Interior, Parallelogram, Ring, Triangle};
+pub use interior::{Disk, Exact, Interior, Parallelogram, Ring, Triangle};
 pub use interval::Interval;
 pub use plane::{Plane, PlaneHit};
 pub use quad::Quad;

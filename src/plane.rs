@@ -183,6 +183,51 @@ impl Plane {
         })
     }
 
+    /// Bounds on the rounding errors of `hit.alpha` and `hit.beta` as [`Plane::intersect`]
+    /// computed them for `ray`: the exact intersection of the ray with the plane has
+    /// coordinates within `(x, y)` of them. Shapes widen their edges by it, so that a ray
+    /// through an edge shared by two shapes finds at least one of them.
+    ///
+    /// Derivation (first order in the unit roundoff `u_r`, constants rounded up; `|.|_1`
+    /// bounds the Euclidean norm from above, so no square roots are needed):
+    /// `t = n.(q - o) / n.d` has relative error at most
+    /// `(gamma(4) |q - o| + gamma(3) t |d|) / (t |d| c) + u_r`, `c` the cosine of incidence;
+    /// `p = (o - q) + t d` adds `gamma(2) (|q - o| + t |d|)`; the computed normal is tilted
+    /// by up to `1.5 gamma(2) / s + 2 u_r` (`s` the sine between `u` and `v`), which moves
+    /// the hit by that times `|p| / c`; and `alpha = p.(v x w)` rounds by `gamma(3)` of
+    /// `|p| |v x w|` while `v x w` itself carries `2 gamma(2) (1 + 1 / s) + 2 u_r` of
+    /// relative error. An in-plane position error `e` is `e |v x w| = e / (|u| s)` in
+    /// alpha. With `a = |q - o|`, `b = t |d|`, `P = |p|` and `1 / c <= |d|_1 / |n.d|`:
+    /// `e = gamma(5) (a + b) (1 + 1/c) + P (3 gamma(4) + 2 gamma(2) / s + (2 gamma(2) / s + 2 u_r) / c)`.
+    ///
+    /// ```
+    /// use hitkit::{glam::DVec3, Interval, Plane, Ray};
+    /// let plane = Plane::new(DVec3::splat(1e9), DVec3::X, DVec3::Y).unwrap();
+    /// let ray = Ray::new(DVec3::new(1e9 + 0.5, 1e9 + 0.5, 1e9 + 1.0), DVec3::NEG_Z);
+    /// let hit = plane.intersect(&ray, Interval::UNIVERSE).unwrap();
+    /// let error = plane.coordinate_error(&ray, &hit);
+    /// assert!(error.x > 0.0 && error.x < 1e-6 && error.y < 1e-6);
+    /// ```
+    #[must_use]
+    pub fn coordinate_error(&self, ray: &Ray, hit: &PlaneHit) -> DVec2 {
+        let l1 = |v: DVec3| v.abs().element_sum();
+        let q_minus_o = self.q - ray.origin;
+        let p = hit.t * ray.direction - q_minus_o;
+        let d = l1(ray.direction);
+        let (a, b, big_p) = (l1(q_minus_o), hit.t.abs() * d, l1(p));
+        let inv_c = d / self.normal.dot(ray.direction).abs();
+        // |v x w| = 1 / (|u| s) and |w x u| = 1 / (|v| s), so 1 / s = |u| |v x w|.
+        let (inv_us, inv_vs) = (l1(self.to_alpha), l1(self.to_beta));
+        let inv_s = l1(self.u) * inv_us;
+        let e = gamma(5) * (a + b) * (1.0 + inv_c)
+            + big_p
+                * (3.0 * gamma(4)
+                    + 2.0 * gamma(2) * inv_s
+                    + (2.0 * gamma(2) * inv_s + 2.0 * gamma(1)) * inv_c);
+        // The bound's own arithmetic rounds too: a few more ulps.
+        e * (1.0 + gamma(8)) * DVec2::new(inv_us, inv_vs)
+    }
+
     /// The hit record for a hit found by [`Plane::intersect`], with surface coordinates
     /// `uv`. The point is `q + alpha u + beta v`, which lies on the plane to within
     /// rounding whatever the error of `alpha` and `beta`; its error bound is that rounding.

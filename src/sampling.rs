@@ -170,3 +170,15 @@ impl<S: SampleInterior> PdfHittable for Quad<S> {
         (plane.q() - origin) + (at.x * plane.u() + at.y * plane.v())
     }
 }
+
+impl<S: SampleInterior> SampleInterior for crate::Exact<S> {
+    #[inline]
+    fn area(&self) -> f64 {
+        self.0.area()
+    }
+
+    #[inline]
+    fn sample(&self, u: DVec2) -> DVec2 {
+        self.0.sample(u)
+    }
+}

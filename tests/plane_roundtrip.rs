@@ -184,13 +184,32 @@ proptest! {
         prop_assert!((hit.alpha - case.alpha).abs() <= tol.alpha, "alpha {} vs {}, tol {}", hit.alpha, case.alpha, tol.alpha);
         prop_assert!((hit.beta - case.beta).abs() <= tol.beta, "beta {} vs {}, tol {}", hit.beta, case.beta, tol.beta);
         prop_assert!((hit.t - 1.0).abs() <= tol.t, "t {} vs 1, tol {}", hit.t, tol.t);
+
+        // hitkit's own bound on the rounding of alpha and beta (what its quads widen their
+        // edges by), plus the error of building the ray (item 1 above), must cover the
+        // difference from the target too.
+        let bound = plane.coordinate_error(&case.ray(), &hit);
+        let (u, v, d) = (case.u, case.v, case.direction);
+        let n = u.cross(v);
+        let c = n.normalize().dot(d.normalize()).abs();
+        let s = n.length() / (u.length() * v.length());
+        let m = (case.origin - case.q).length() + (case.alpha * u).length() + (case.beta * v).length() + d.length();
+        let built = gamma(3) * m * (1.0 + 1.0 / c);
+        prop_assert!((hit.alpha - case.alpha).abs() <= built / (u.length() * s) + bound.x, "alpha {} vs {}, bound {}", hit.alpha, case.alpha, bound.x);
+        prop_assert!((hit.beta - case.beta).abs() <= built / (v.length() * s) + bound.y, "beta {} vs {}, bound {}", hit.beta, case.beta, bound.y);
     }
 
     #[test]
     fn shapes_hit_points_inside_by_the_bound_and_miss_points_outside_by_it(case in case()) {
         let (a, b) = (case.alpha, case.beta);
         let tol = case.tolerance();
-        let (ta, tb) = (tol.alpha, tol.beta);
+        // The quads widen their edges by the bound hitkit computes for this ray
+        // (`Plane::coordinate_error`, watertight edges): a point outside by less than that
+        // may hit, so it joins the tolerance.
+        let plane = Plane::new(case.q, case.u, case.v).unwrap();
+        let hit = plane.intersect(&case.ray(), Interval::UNIVERSE).expect("aimed at the plane");
+        let widening = plane.coordinate_error(&case.ray(), &hit);
+        let (ta, tb) = (tol.alpha + widening.x, tol.beta + widening.y);
         // Margins are measured on the exact (alpha, beta) the ray was aimed at.
         let square = [classify(a, ta), classify(1.0 - a, ta), classify(b, tb), classify(1.0 - b, tb)];
         assert_shape_agrees(&case, Parallelogram, all_of(&square), "parallelogram")?;
