@@ -525,3 +525,40 @@ fn a_scaled_and_shifted_cornell_box_hits_the_same_objects() {
         assert!(!paths[1].is_empty());
     }
 }
+
+/// Edge vectors from 1e-160 to 1e155 are refused with a `GeometryError` or accepted and then
+/// work: a ray at the centre hits, one beside the quad misses. Never a quad that silently
+/// never hits. The book builds all of them and, with `|n.d| < 1e-8`, never hits those whose
+/// `u x v` is below 1e-8; with `w = n / n.n` overflowing, it returns NaN coordinates.
+#[test]
+fn extreme_edge_lengths_are_refused_or_work() {
+    for length in [
+        1e-160, 1e-154, 1e-150, 1e-100, 1e-10, 1.0, 1e10, 1e100, 1e150, 1e154, 1e155,
+    ] {
+        for offset in [0.0, 1.0, 1e6] {
+            let q = DVec3::splat(offset);
+            let (u, v) = (
+                DVec3::new(1.0, 0.5, 0.0) * length,
+                DVec3::new(-0.5, 1.0, 0.25) * length,
+            );
+            let Ok(quad) = Quad::new(q, u, v) else {
+                continue;
+            };
+            // A quad finer than the resolution of its position cannot be aimed at.
+            if length < 1024.0 * offset * f64::EPSILON {
+                continue;
+            }
+            let centre = q + (0.5 * u + 0.5 * v);
+            let beside = q + (1.5 * u + 0.5 * v);
+            let normal = quad.plane().normal();
+            for (target, expect) in [(centre, true), (beside, false)] {
+                let ray = Ray::new(target + normal * length, -normal * length);
+                assert_eq!(
+                    quad.hit(&ray, FORWARD).is_some(),
+                    expect,
+                    "length {length}, offset {offset}, expect {expect}"
+                );
+            }
+        }
+    }
+}
