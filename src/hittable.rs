@@ -88,7 +88,10 @@ impl HitRecord {
         } else {
             self.normal
         };
-        let mut origin = self.point + self.normal.abs().dot(self.point_error) * toward;
+        // Near the end of f64's range the bound itself overflows; the largest finite offset
+        // then keeps `0 * inf` (a zero normal component) from making the origin NaN.
+        let offset = self.normal.abs().dot(self.point_error).min(f64::MAX);
+        let mut origin = self.point + offset * toward;
         // One more float away along every axis the normal has a component on, so that the
         // origin leaves the surface even where the error bound is zero.
         for axis in 0..3 {

@@ -9,10 +9,13 @@
 //! offsets that represent them exactly. A miss is then the intersection code's fault, not
 //! the test's.
 
+mod support;
+
 use hitkit::glam::{DQuat, DVec3};
 use hitkit::{
     Aabb, Bvh, Cuboid, Hittable, Interval, MaterialId, Plane, Quad, Ray, Transformed, Triangle,
 };
+use support::SplitMix;
 
 const FORWARD: Interval = Interval::new(0.0, f64::INFINITY);
 
@@ -28,22 +31,9 @@ fn representable(offset: f64, scale: f64) -> bool {
     scale / 8.0 >= offset * f64::EPSILON
 }
 
-/// SplitMix64: a fixed stream of small integers for directions and parameters.
-struct Stream(u64);
-
-impl Stream {
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^ (z >> 31)
-    }
-
-    /// An integer in `1..=n`.
-    fn int(&mut self, n: u64) -> f64 {
-        (self.next() % n + 1) as f64
-    }
+/// An integer in `1..=n`, as a float, from the shared fixed stream.
+fn int(stream: &mut SplitMix, n: u64) -> f64 {
+    (stream.next_u64() % n + 1) as f64
 }
 
 /// A closed box with oblique, mutually orthogonal edges (2, 2, 1), (2, -1, -2), (1, -2, 2)
@@ -95,7 +85,7 @@ fn edge_and_corner_rays_never_escape_a_rotated_closed_box() {
         (5, 7),
         (6, 7),
     ];
-    let mut stream = Stream(1);
+    let mut stream = SplitMix::new(1);
     let mut rays = 0;
     for offset in OFFSETS {
         for scale in SCALES.into_iter().filter(|&s| representable(offset, s)) {
@@ -108,9 +98,9 @@ fn edge_and_corner_rays_never_escape_a_rotated_closed_box() {
                     // From outside: the direction toward the centre plus small integer noise,
                     // all multiples of scale / 8, so that origin = target - direction is exact.
                     let noise = DVec3::new(
-                        stream.int(4) - 2.5,
-                        stream.int(4) - 2.5,
-                        stream.int(4) - 2.5,
+                        int(&mut stream, 4) - 2.5,
+                        int(&mut stream, 4) - 2.5,
+                        int(&mut stream, 4) - 2.5,
                     ) * (scale / 4.0);
                     let direction = centre_dir(target) * 0.5 + noise;
                     let origin = target - direction;
@@ -126,9 +116,9 @@ fn edge_and_corner_rays_never_escape_a_rotated_closed_box() {
                     // `u_r |target - origin|` of the edge (on either side). Faces widened by
                     // their coordinates' error bound (which is at least that) still catch it.
                     let wobble = DVec3::new(
-                        stream.next() as f64,
-                        stream.next() as f64,
-                        stream.next() as f64,
+                        stream.next_u64() as f64,
+                        stream.next_u64() as f64,
+                        stream.next_u64() as f64,
                     ) / u64::MAX as f64;
                     let origin = target - direction * (1.0 + 0.1 * wobble);
                     let ray = Ray::new(origin, target - origin);
@@ -151,7 +141,7 @@ fn edge_and_corner_rays_never_escape_a_rotated_closed_box() {
 /// test and loses such rays at large offsets; none may escape.
 #[test]
 fn edge_rays_never_escape_a_transformed_cuboid() {
-    let mut stream = Stream(2);
+    let mut stream = SplitMix::new(2);
     for offset in OFFSETS {
         for scale in SCALES {
             let size = DVec3::new(1.0, 2.0, 1.5) * scale;
@@ -166,14 +156,14 @@ fn edge_rays_never_escape_a_transformed_cuboid() {
             for _ in 0..64 {
                 // A point on a random edge of the object-space box, nudged inside.
                 let mut local = DVec3::new(
-                    stream.int(1000) / 1000.0,
-                    stream.int(1000) / 1000.0,
-                    stream.int(1000) / 1000.0,
+                    int(&mut stream, 1000) / 1000.0,
+                    int(&mut stream, 1000) / 1000.0,
+                    int(&mut stream, 1000) / 1000.0,
                 );
-                let axis = (stream.next() % 3) as usize;
+                let axis = (stream.next_u64() % 3) as usize;
                 for k in 0..3 {
                     if k != axis {
-                        local[k] = if stream.next().is_multiple_of(2) {
+                        local[k] = if stream.next_u64().is_multiple_of(2) {
                             inside
                         } else {
                             1.0 - inside
@@ -197,7 +187,7 @@ fn edge_rays_never_escape_a_transformed_cuboid() {
 /// sides loses a share of them to rounding (in the accuracy example's count).
 #[test]
 fn rays_through_a_shared_edge_or_diagonal_hit_one_side() {
-    let mut stream = Stream(3);
+    let mut stream = SplitMix::new(3);
     for offset in OFFSETS {
         for scale in SCALES.into_iter().filter(|&s| representable(offset, s)) {
             let q = DVec3::new(offset, offset, offset);
@@ -213,8 +203,8 @@ fn rays_through_a_shared_edge_or_diagonal_hit_one_side() {
             let normal = u.cross(v) / (scale * scale);
             for k in 0..8 {
                 let s = f64::from(k) / 8.0;
-                let off_plane =
-                    normal * (scale * stream.int(3)) + (u - v) * (0.125 * (stream.int(5) - 3.0));
+                let off_plane = normal * (scale * int(&mut stream, 3))
+                    + (u - v) * (0.125 * (int(&mut stream, 5) - 3.0));
                 // On the shared edge q + u + s v, and on the diagonal (q + u) + s (v - u).
                 let (on_edge, on_diagonal) = (q + u + s * v, q + u + s * (v - u));
                 for side in [1.0, -1.0] {
@@ -242,7 +232,7 @@ fn rays_through_a_shared_edge_or_diagonal_hit_one_side() {
 /// be told apart in f64).
 #[test]
 fn spawned_rays_never_rehit_their_surface_and_find_one_a_hair_above() {
-    let mut stream = Stream(4);
+    let mut stream = SplitMix::new(4);
     for offset in OFFSETS {
         // A floor at least a thousand ulps of the offset wide, so that "a hair above" is
         // still small against it.
@@ -259,16 +249,24 @@ fn spawned_rays_never_rehit_their_surface_and_find_one_a_hair_above() {
             .unwrap();
             for _ in 0..32 {
                 let target = q + DVec3::new(
-                    stream.int(999) / 500.0 * scale,
+                    int(&mut stream, 999) / 500.0 * scale,
                     0.0,
-                    stream.int(999) / 500.0 * scale,
+                    int(&mut stream, 999) / 500.0 * scale,
                 );
                 let origin = target
-                    + DVec3::new(stream.int(9) - 5.0, stream.int(9), stream.int(9) - 5.0) * scale;
+                    + DVec3::new(
+                        int(&mut stream, 9) - 5.0,
+                        int(&mut stream, 9),
+                        int(&mut stream, 9) - 5.0,
+                    ) * scale;
                 let hit = floor
                     .hit(&Ray::new(origin, target - origin), FORWARD)
                     .expect("aimed at the floor");
-                let up = DVec3::new(stream.int(9) - 5.0, stream.int(9), stream.int(9) - 5.0);
+                let up = DVec3::new(
+                    int(&mut stream, 9) - 5.0,
+                    int(&mut stream, 9),
+                    int(&mut stream, 9) - 5.0,
+                );
                 for direction in [up, -up] {
                     let spawned = hit.spawn_ray(direction);
                     assert!(
@@ -507,10 +505,14 @@ fn a_scaled_and_shifted_cornell_box_hits_the_same_objects() {
         .into_iter()
         .map(|s| (s, scene(s, shift)))
         .collect();
-    let mut stream = Stream(5);
+    let mut stream = SplitMix::new(5);
     for _ in 0..200 {
         let from = DVec3::new(278.0, 278.0, -800.0);
-        let toward = DVec3::new(stream.int(555) - 0.5, stream.int(555) - 0.5, 555.0);
+        let toward = DVec3::new(
+            int(&mut stream, 555) - 0.5,
+            int(&mut stream, 555) - 0.5,
+            555.0,
+        );
         let paths: Vec<Vec<u32>> = worlds
             .iter()
             .map(|(s, w)| {

@@ -2,16 +2,14 @@
 //! documented mapping, the bounding box contains every point of the shape, and a ring with
 //! no hole is the disk.
 
+mod support;
+
 use hitkit::glam::{DVec2, DVec3};
 use hitkit::{Disk, Hittable, Interior, Interval, Parallelogram, Quad, Ray, Ring, Triangle};
 use proptest::prelude::*;
+use support::gamma;
 
 type Frame = (DVec3, DVec3, DVec3);
-
-fn gamma(k: u32) -> f64 {
-    let nu = f64::from(k) * f64::EPSILON * 0.5;
-    nu / (1.0 - nu)
-}
 
 fn frame() -> impl Strategy<Value = Frame> {
     let v3 =

@@ -37,14 +37,12 @@
 //! origin is as accurate as one at it. (The book's `o + t d - q` form loses `u_r |q|`
 //! absolutely, a thousand times this bound for an edge of 1e-2 at 1e8.)
 
+mod support;
+
 use hitkit::glam::{DQuat, DVec3};
 use hitkit::{Disk, Hittable, Interval, Parallelogram, Plane, Quad, Ray, Ring, Triangle};
 use proptest::prelude::*;
-
-fn gamma(k: u32) -> f64 {
-    let nu = f64::from(k) * f64::EPSILON * 0.5;
-    nu / (1.0 - nu)
-}
+use support::gamma;
 
 /// A random case: plane, target coordinates and ray.
 #[derive(Debug, Clone)]

@@ -3,6 +3,8 @@
 //! 1, misses have density 0 and nothing is NaN, a cuboid faces outward, and a moved object
 //! hits where the same object built in place does.
 
+mod support;
+
 use std::f64::consts::{FRAC_PI_2, PI};
 
 use hitkit::glam::{DQuat, DVec2, DVec3};
@@ -10,38 +12,9 @@ use hitkit::{
     Cuboid, Disk, GeometryError, Hittable, Interval, Parallelogram, PdfHittable, Quad, Ray, Ring,
     SampleInterior, Transformed, Triangle,
 };
+use support::{SplitMix, gamma};
 
 const FORWARD: Interval = Interval::new(0.0, f64::INFINITY);
-
-fn gamma(k: u32) -> f64 {
-    let nu = f64::from(k) * f64::EPSILON * 0.5;
-    nu / (1.0 - nu)
-}
-
-/// SplitMix64: a fixed seed gives the same numbers on every run.
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
-    }
-
-    fn square(&mut self) -> DVec2 {
-        DVec2::new(self.next(), self.next())
-    }
-
-    /// A direction uniform over the unit sphere.
-    fn sphere(&mut self) -> DVec3 {
-        let z = 1.0 - 2.0 * self.next();
-        let r = (1.0 - z * z).max(0.0).sqrt();
-        let (sin, cos) = (2.0 * PI * self.next()).sin_cos();
-        DVec3::new(r * cos, r * sin, z)
-    }
-}
 
 /// A light, its centre, and its unit normal.
 struct Light {
@@ -92,7 +65,7 @@ fn lights() -> Vec<Light> {
 
 #[test]
 fn sampled_directions_hit_the_light_with_a_finite_positive_density() {
-    let mut rng = Rng(1);
+    let mut rng = SplitMix::new(1);
     for Light {
         name,
         light,
@@ -109,7 +82,8 @@ fn sampled_directions_hit_the_light_with_a_finite_positive_density() {
         ];
         for (place, origin) in origins {
             for _ in 0..500 {
-                let direction = light.sample_direction(origin, rng.square());
+                let direction =
+                    light.sample_direction(origin, DVec2::new(rng.next_f64(), rng.next_f64()));
                 let ray = Ray::new(origin, direction);
                 assert!(
                     light.hit(&ray, FORWARD).is_some(),
@@ -133,7 +107,7 @@ fn sampled_directions_hit_the_light_with_a_finite_positive_density() {
 #[test]
 fn the_density_integrates_to_one_over_the_sphere() {
     const N: usize = 100_000;
-    let mut rng = Rng(2);
+    let mut rng = SplitMix::new(2);
     for Light {
         name,
         light,
@@ -144,7 +118,7 @@ fn the_density_integrates_to_one_over_the_sphere() {
         let along = normal.any_orthonormal_vector();
         for origin in [on + normal, on - normal + 0.3 * along] {
             let values: Vec<f64> = (0..N)
-                .map(|_| 4.0 * PI * light.pdf_value(origin, rng.sphere()))
+                .map(|_| 4.0 * PI * light.pdf_value(origin, rng.direction()))
                 .collect();
             let mean = values.iter().sum::<f64>() / N as f64;
             let variance = values.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (N - 1) as f64;
@@ -163,7 +137,7 @@ fn the_density_integrates_to_one_over_the_sphere() {
 
 #[test]
 fn the_density_is_zero_off_the_light_and_never_nan() {
-    let mut rng = Rng(3);
+    let mut rng = SplitMix::new(3);
     for Light {
         name,
         light,
@@ -194,7 +168,7 @@ fn the_density_is_zero_off_the_light_and_never_nan() {
         // An origin on the light: in its plane to within rounding, so the density is 0 or
         // finite, whatever the direction.
         for _ in 0..200 {
-            let pdf = light.pdf_value(on, rng.sphere());
+            let pdf = light.pdf_value(on, rng.direction());
             assert!(
                 pdf.is_finite() && pdf >= 0.0,
                 "{name} from its own point: {pdf}"
@@ -257,11 +231,12 @@ fn a_cuboid_faces_outward_on_all_six_sides() {
 #[test]
 fn a_ray_from_inside_a_cuboid_hits_a_back_face() {
     let block = cuboid();
-    let mut rng = Rng(4);
+    let mut rng = SplitMix::new(4);
     for _ in 0..300 {
         let inside = DVec3::new(-1.0, -2.0, -0.5)
-            + DVec3::new(3.0, 3.0, 2.0) * DVec3::new(rng.next(), rng.next(), rng.next());
-        let ray = Ray::new(inside, rng.sphere());
+            + DVec3::new(3.0, 3.0, 2.0)
+                * DVec3::new(rng.next_f64(), rng.next_f64(), rng.next_f64());
+        let ray = Ray::new(inside, rng.direction());
         let hit = block
             .hit(&ray, FORWARD)
             .expect("a closed box holds every ray from inside");
@@ -342,11 +317,12 @@ fn a_quarter_turned_cuboid_hits_like_one_built_in_place() {
     let moved = Transformed::translate(Transformed::rotate_y(object, 90.0).unwrap(), MOVE).unwrap();
     let in_place = Cuboid::new(quarter_turn(a) + MOVE, quarter_turn(b) + MOVE).unwrap();
     let (lo, hi) = (in_place.bounding_box().min(), in_place.bounding_box().max());
-    let mut rng = Rng(5);
+    let mut rng = SplitMix::new(5);
     for _ in 0..500 {
         // From a sphere around the box, toward a point well inside it (no edge is near).
-        let target = lo + (hi - lo) * (0.1 + 0.8 * DVec3::new(rng.next(), rng.next(), rng.next()));
-        let origin = target + 6.0 * rng.sphere();
+        let target = lo
+            + (hi - lo) * (0.1 + 0.8 * DVec3::new(rng.next_f64(), rng.next_f64(), rng.next_f64()));
+        let origin = target + 6.0 * rng.direction();
         let ray = Ray::new(origin, target - origin);
         let (got, want) = (
             moved.hit(&ray, FORWARD).unwrap(),
@@ -406,11 +382,14 @@ fn check_quarter_turned_light<S: SampleInterior + Copy + 'static>(
     .unwrap();
     assert_eq!(in_place.area(), object.area());
     let normal = in_place.plane().normal();
-    let mut rng = Rng(6);
+    let mut rng = SplitMix::new(6);
     for _ in 0..300 {
-        let origin = in_place.plane().q() + 3.0 * rng.sphere();
+        let origin = in_place.plane().q() + 3.0 * rng.direction();
         // Toward a point of the shape clear of its edges.
-        let direction = in_place.sample_direction(origin, DVec2::splat(0.05) + 0.9 * rng.square());
+        let direction = in_place.sample_direction(
+            origin,
+            DVec2::splat(0.05) + 0.9 * DVec2::new(rng.next_f64(), rng.next_f64()),
+        );
         let (got, want) = (
             moved.pdf_value(origin, direction),
             in_place.pdf_value(origin, direction),
@@ -424,7 +403,7 @@ fn check_quarter_turned_light<S: SampleInterior + Copy + 'static>(
             "{got} vs {want} (relative tolerance {tol})"
         );
         // The moved light's own samples hit it, over the whole of [0, 1)^2.
-        let sampled = moved.sample_direction(origin, rng.square());
+        let sampled = moved.sample_direction(origin, DVec2::new(rng.next_f64(), rng.next_f64()));
         assert!(moved.hit(&Ray::new(origin, sampled), FORWARD).is_some());
     }
 }
@@ -433,19 +412,19 @@ fn check_quarter_turned_light<S: SampleInterior + Copy + 'static>(
 fn spawned_rays_do_not_hit_a_moved_surface_again() {
     let quad = Quad::new(DVec3::new(-1.0, -1.0, 0.0), DVec3::X * 2.0, DVec3::Y * 2.0).unwrap();
     let rotation = DQuat::from_axis_angle(DVec3::new(0.3, 1.0, -0.2).normalize(), 1.1);
-    let mut rng = Rng(7);
+    let mut rng = SplitMix::new(7);
     for far in [1.0, 1e3, 1e6, 1e9] {
         let moved = Transformed::new(quad, rotation, DVec3::new(0.7, -0.4, 0.9) * far).unwrap();
         let (centre, normal) = (moved.translation(), moved.rotation() * DVec3::Z);
         for _ in 0..300 {
             let target = centre
                 + moved.rotation()
-                    * DVec3::new(2.0 * rng.next() - 1.0, 2.0 * rng.next() - 1.0, 0.0);
-            let origin = target + 5.0 * rng.sphere();
+                    * DVec3::new(2.0 * rng.next_f64() - 1.0, 2.0 * rng.next_f64() - 1.0, 0.0);
+            let origin = target + 5.0 * rng.direction();
             let Some(hit) = moved.hit(&Ray::new(origin, target - origin), FORWARD) else {
                 continue;
             };
-            for bounce in [rng.sphere(), normal, -normal] {
+            for bounce in [rng.direction(), normal, -normal] {
                 let spawned = hit.spawn_ray(bounce);
                 assert!(
                     moved.hit(&spawned, FORWARD).is_none(),
@@ -466,10 +445,10 @@ fn a_generic_rotation_keeps_the_bounding_box_around_the_hits() {
         DVec3::new(1e4, -3.0, 7.0),
     )
     .unwrap();
-    let mut rng = Rng(8);
+    let mut rng = SplitMix::new(8);
     for _ in 0..300 {
-        let target = moved.translation() + 1.5 * rng.sphere();
-        let origin = target + 10.0 * rng.sphere();
+        let target = moved.translation() + 1.5 * rng.direction();
+        let origin = target + 10.0 * rng.direction();
         let ray = Ray::new(origin, target - origin);
         if let Some(hit) = moved.hit(&ray, Interval::UNIVERSE) {
             assert!(moved.bounding_box().contains(hit.point), "{hit:?}");
