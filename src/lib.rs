@@ -30,7 +30,8 @@
 //!   says whether the ray came from the side `u x v` points to.
 //! - Points on a plane or quad are `q + alpha * u + beta * v`; interior predicates
 //!   ([`Parallelogram`], [`Triangle`], [`Disk`], [`Ring`], or your own) decide in
-//!   `(alpha, beta)` space and include their edges.
+//!   `(alpha, beta)` space and include their edges, widened by the rounding-error bound
+//!   of the coordinates so that shapes sharing an edge leave no crack.
 //! - Constructors validate their input and return [`GeometryError`]; `hit` on a NaN,
 //!   infinite or zero-direction ray returns `None`. Nothing panics on any `f64` input.
 //!

@@ -7,7 +7,12 @@ use crate::{
 
 /// A planar shape: a [`Plane`] finds `(t, alpha, beta)`, an [`Interior`] predicate decides
 /// whether the point belongs to the shape. With the default [`Parallelogram`] it is the
-/// book's quad, with corners `q`, `q + u`, `q + v`, `q + u + v`; edges are inclusive.
+/// book's quad, with corners `q`, `q + u`, `q + v`, `q + u + v`.
+///
+/// Edges are inclusive and watertight: the built-in shapes also accept points whose
+/// computed coordinates fall outside by less than their rounding-error bound
+/// ([`Plane::coordinate_error`]), so a ray through an edge shared by two shapes hits at
+/// least one of them. Wrap a shape in [`Exact`](crate::Exact) to test it exactly instead.
 ///
 /// ```
 /// use hitkit::glam::DVec3;
