@@ -67,6 +67,7 @@ mod plane;
 mod quad;
 mod ray;
 mod sampling;
+mod sphere;
 mod transform;
 
 #[cfg(feature = "approx")]
@@ -85,6 +86,7 @@ pub use plane::{Plane, PlaneHit};
 pub use quad::Quad;
 pub use ray::Ray;
 pub use sampling::SampleInterior;
+pub use sphere::Sphere;
 pub use transform::Transformed;
 
 /// The README's code blocks, run as doctests.

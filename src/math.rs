@@ -52,3 +52,29 @@ pub(crate) fn sin_cos(x: f64) -> (f64, f64) {
         libm::sincos(x)
     }
 }
+
+#[inline]
+#[must_use]
+pub(crate) fn atan2(y: f64, x: f64) -> f64 {
+    #[cfg(feature = "std")]
+    {
+        y.atan2(x)
+    }
+    #[cfg(not(feature = "std"))]
+    {
+        libm::atan2(y, x)
+    }
+}
+
+#[inline]
+#[must_use]
+pub(crate) fn acos(x: f64) -> f64 {
+    #[cfg(feature = "std")]
+    {
+        x.acos()
+    }
+    #[cfg(not(feature = "std"))]
+    {
+        libm::acos(x)
+    }
+}

@@ -1,0 +1,197 @@
+//! The sphere, with the careful quadratic of Ray Tracing Gems chapter 7 (Haines, Günther,
+//! Akenine-Möller, "Precision Improvements for Ray/Sphere Intersection", 2019), and sampled
+//! as a light by the cone it subtends.
+
+use core::f64::consts::{PI, TAU};
+
+use glam::{DVec2, DVec3};
+
+use crate::math::{acos, atan2, gamma, sin_cos, sqrt, unit_and_length};
+use crate::{Aabb, GeometryError, HitRecord, Hittable, Interval, MaterialId, PdfHittable, Ray};
+
+/// A sphere: centre and radius. `uv` is `(phi / 2 pi, theta / pi)`, `phi` around the y axis
+/// from -x (as the book's `get_sphere_uv`), `theta` from -y.
+///
+/// ```
+/// use hitkit::{glam::DVec3, Hittable, Interval, Ray, Sphere};
+/// let ball = Sphere::new(DVec3::new(0.0, 0.0, -5.0), 1.0).unwrap();
+/// let hit = ball.hit(&Ray::new(DVec3::ZERO, DVec3::NEG_Z), Interval::new(0.0, f64::INFINITY)).unwrap();
+/// assert_eq!((hit.t, hit.normal), (4.0, DVec3::Z));
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Sphere {
+    center: DVec3,
+    radius: f64,
+    material: MaterialId,
+}
+
+impl Sphere {
+    /// The sphere of `radius` around `center`.
+    ///
+    /// # Errors
+    /// [`GeometryError::NonFinite`] for a NaN or infinite input,
+    /// [`GeometryError::InvalidParameter`] for a radius that is not positive, or whose
+    /// square over- or underflows.
+    pub fn new(center: DVec3, radius: f64) -> Result<Self, GeometryError> {
+        if !center.is_finite() {
+            return Err(GeometryError::NonFinite { what: "center" });
+        }
+        if !radius.is_finite() {
+            return Err(GeometryError::NonFinite { what: "radius" });
+        }
+        if !(radius * radius).is_normal() || radius <= 0.0 {
+            return Err(GeometryError::InvalidParameter {
+                what: "sphere radius",
+                value: radius,
+                domain: "(1e-154, 1e154) roughly: positive, with a representable square",
+            });
+        }
+        Ok(Self {
+            center,
+            radius,
+            material: MaterialId::default(),
+        })
+    }
+
+    /// The same sphere with material `material`.
+    #[inline]
+    #[must_use]
+    pub fn with_material(mut self, material: MaterialId) -> Self {
+        self.material = material;
+        self
+    }
+
+    /// The centre.
+    #[inline]
+    #[must_use]
+    pub fn center(&self) -> DVec3 {
+        self.center
+    }
+
+    /// The radius.
+    #[inline]
+    #[must_use]
+    pub fn radius(&self) -> f64 {
+        self.radius
+    }
+
+    /// The two ray parameters where the ray meets the sphere, nearer first, or `None`.
+    ///
+    /// The discriminant comes from the squared distance between the centre and the ray's
+    /// closest point, computed as a vector (`f - (f.d / d.d) d`, `f = o - center`) rather than
+    /// as `b^2 - 4ac`, which cancels catastrophically for small spheres far away; the roots
+    /// are `c / q` and `q / a` with `q = -(b + sign(b) sqrt(...))`, so neither subtracts
+    /// nearly equal numbers (Ray Tracing Gems, chapter 7).
+    #[must_use]
+    pub fn roots(&self, ray: &Ray) -> Option<(f64, f64)> {
+        let f = ray.origin - self.center;
+        let d = ray.direction;
+        let a = d.dot(d);
+        let b = f.dot(d); // half of the usual b
+        let closest = f - (b / a) * d;
+        let r2 = self.radius * self.radius;
+        let discriminant = r2 - closest.dot(closest);
+        if discriminant.is_nan() || discriminant < 0.0 {
+            return None; // a miss, or a NaN from an invalid ray
+        }
+        let c = f.dot(f) - r2;
+        let q = -(b + b.signum() * sqrt(a * discriminant));
+        let (t0, t1) = (c / q, q / a);
+        let (near, far) = if t0 <= t1 { (t0, t1) } else { (t1, t0) };
+        (near.is_finite() && far.is_finite()).then_some((near, far))
+    }
+}
+
+impl Hittable for Sphere {
+    fn hit(&self, ray: &Ray, ray_t: Interval) -> Option<HitRecord> {
+        if !ray.is_valid() {
+            return None;
+        }
+        let (near, far) = self.roots(ray)?;
+        let t = if ray_t.contains(near) {
+            near
+        } else if ray_t.contains(far) {
+            far
+        } else {
+            return None;
+        };
+        // Reprojected onto the sphere (pbrt-v4): the point is then the centre plus a radius
+        // along a unit vector, off the surface by a few roundings of its coordinates.
+        let (outward, _) = unit_and_length((ray.origin - self.center) + t * ray.direction);
+        let offset = self.radius * outward;
+        let point = self.center + offset;
+        let point_error = gamma(5) * (self.center.abs() + offset.abs());
+        let theta = acos((-outward.y).clamp(-1.0, 1.0));
+        let phi = atan2(-outward.z, outward.x) + PI;
+        let uv = DVec2::new(phi / TAU, theta / PI);
+        Some(HitRecord::new(
+            ray,
+            t,
+            point,
+            point_error,
+            outward,
+            uv,
+            self.material,
+        ))
+    }
+
+    fn bounding_box(&self) -> Aabb {
+        let r = DVec3::splat(self.radius);
+        // `center ± r` rounds once: a rounding's worth of room keeps the box conservative.
+        Aabb::new(self.center - r, self.center + r).grown(gamma(1) * (self.center.abs() + r))
+    }
+}
+
+impl PdfHittable for Sphere {
+    /// From outside, `1 / (2 pi (1 - cos theta_max))` for directions inside the cone the
+    /// sphere subtends (0 elsewhere); from inside or on it, `1 / (4 pi)` (every direction).
+    fn pdf_value(&self, origin: DVec3, direction: DVec3) -> f64 {
+        match self.cone(origin) {
+            Some(one_minus_cos) => {
+                let hits = self
+                    .hit(
+                        &Ray::new(origin, direction),
+                        Interval::new(0.0, f64::INFINITY),
+                    )
+                    .is_some();
+                if hits {
+                    1.0 / (TAU * one_minus_cos)
+                } else {
+                    0.0
+                }
+            }
+            None => 1.0 / (4.0 * PI),
+        }
+    }
+
+    /// A direction uniformly distributed in the cone the sphere subtends from `origin`
+    /// (uniform over the sphere of directions from inside).
+    fn sample_direction(&self, origin: DVec3, u: DVec2) -> DVec3 {
+        let u = u.clamp(DVec2::ZERO, DVec2::ONE);
+        let (axis, one_minus_cos) = match self.cone(origin) {
+            Some(one_minus_cos) => (unit_and_length(self.center - origin).0, one_minus_cos),
+            None => (DVec3::Z, 2.0),
+        };
+        let one_minus = u.x * one_minus_cos;
+        let cos = 1.0 - one_minus;
+        let sin = sqrt((one_minus * (2.0 - one_minus)).max(0.0));
+        let (s, c) = sin_cos(TAU * u.y);
+        let (t, b) = axis.any_orthonormal_pair();
+        (c * sin) * t + (s * sin) * b + cos * axis
+    }
+}
+
+impl Sphere {
+    /// `1 - cos theta_max` of the cone the sphere subtends from `origin`, or `None` when the
+    /// origin is inside or on it. Written as `s^2 / (1 + sqrt(1 - s^2))`, `s = r / distance`,
+    /// which keeps its digits for small, far spheres where `1 - sqrt(1 - s^2)` cancels.
+    fn cone(&self, origin: DVec3) -> Option<f64> {
+        let (_, distance) = unit_and_length(self.center - origin);
+        let s = self.radius / distance;
+        if s.is_nan() || s >= 1.0 {
+            return None;
+        }
+        let s2 = s * s;
+        Some(s2 / (1.0 + sqrt(1.0 - s2)))
+    }
+}
