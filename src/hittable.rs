@@ -81,6 +81,7 @@ impl HitRecord {
     /// let bounce = hit.spawn_ray(DVec3::new(0.2, 1.0, 0.0));
     /// assert!(floor.hit(&bounce, Interval::new(0.0, f64::INFINITY)).is_none());
     /// ```
+    #[inline]
     #[must_use]
     pub fn spawn_ray(&self, direction: DVec3) -> Ray {
         let toward = if direction.dot(self.normal) < 0.0 {

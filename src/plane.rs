@@ -231,6 +231,7 @@ impl Plane {
     /// The hit record for a hit found by [`Plane::intersect`], with surface coordinates
     /// `uv`. The point is `q + alpha u + beta v`, which lies on the plane to within
     /// rounding whatever the error of `alpha` and `beta`; its error bound is that rounding.
+    #[inline]
     #[must_use]
     pub fn hit_record(&self, ray: &Ray, hit: PlaneHit, uv: DVec2) -> HitRecord {
         let (au, bv) = (hit.alpha * self.u, hit.beta * self.v);

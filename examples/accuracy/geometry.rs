@@ -1,0 +1,451 @@
+//! Part 1: every accuracy choice on the same workloads, counting failures and timing. The
+//! quad-test rows (the book's, `Exact`, the watertight default, and the two ways of
+//! spawning rays) are here; the box-test rows in `box_tests`.
+
+use std::hint::black_box;
+
+use hitkit::glam::DVec3;
+use hitkit::{
+    Exact, GeometryError, HitRecord, Hittable, Interval, Parallelogram, Quad, Ray, Triangle,
+};
+
+use crate::book::{self, BookQuad, BookShape};
+use crate::box_tests::{self, BoxNotes};
+use crate::boxes::Boxes;
+use crate::degenerate::{Degenerate, DegenerateKind, DegenerateRay};
+use crate::edges::{Edges, Group, PLACEMENTS};
+use crate::frame::QuadSpec;
+use crate::spawn::{Spawn, SpawnCase};
+use crate::tally::{Failure, Measured, Row, Tally, median_ns_per_ray, row, short};
+
+/// All the workloads, generated once and shared by every choice.
+pub struct Workloads {
+    pub edges: Edges,
+    pub spawn: Spawn,
+    pub degenerate: Degenerate,
+    pub boxes: Boxes,
+}
+
+impl Workloads {
+    /// Every workload; `size` scales the number of rays (1.0 for the full run).
+    pub fn generate(size: f64) -> Self {
+        Self {
+            edges: Edges::generate(size),
+            spawn: Spawn::generate(size),
+            degenerate: Degenerate::generate(size),
+            boxes: Boxes::generate(size),
+        }
+    }
+}
+
+/// How a choice starts secondary rays, and the range it traces every ray over.
+#[derive(Clone, Copy, Debug)]
+enum Spawning {
+    /// hitkit's `HitRecord::spawn_ray`, traced over `[0, inf)`.
+    Offset,
+    /// At the hit point, every ray traced over `[t_min, inf)` (the book's renderer).
+    TMin(f64),
+}
+
+impl Spawning {
+    /// The range of every ray.
+    fn range(self) -> Interval {
+        match self {
+            Spawning::Offset => Interval::new(0.0, f64::INFINITY),
+            Spawning::TMin(t_min) => Interval::new(t_min, f64::INFINITY),
+        }
+    }
+
+    /// The ray leaving `hit` along `direction`.
+    fn secondary(self, hit: &HitRecord, direction: DVec3) -> Ray {
+        match self {
+            Spawning::Offset => hit.spawn_ray(direction),
+            Spawning::TMin(_) => Ray::new(hit.point, direction),
+        }
+    }
+}
+
+/// How a choice builds parallelograms and triangles from the workloads' `(q, u, v)`.
+trait Shapes {
+    type Parallelogram: Hittable;
+    type Triangle: Hittable;
+    fn parallelogram(&self, s: &QuadSpec) -> Result<Self::Parallelogram, GeometryError>;
+    fn triangle(&self, s: &QuadSpec) -> Result<Self::Triangle, GeometryError>;
+}
+
+/// The book's test.
+struct BookShapes;
+
+impl Shapes for BookShapes {
+    type Parallelogram = BookQuad;
+    type Triangle = BookQuad;
+    fn parallelogram(&self, s: &QuadSpec) -> Result<BookQuad, GeometryError> {
+        Ok(BookQuad::new(s.q, s.u, s.v, BookShape::Parallelogram))
+    }
+    fn triangle(&self, s: &QuadSpec) -> Result<BookQuad, GeometryError> {
+        Ok(BookQuad::new(s.q, s.u, s.v, BookShape::Triangle))
+    }
+}
+
+/// hitkit's plane test with exact interiors (`Exact`), no widening.
+struct ExactShapes;
+
+impl Shapes for ExactShapes {
+    type Parallelogram = Quad<Exact<Parallelogram>>;
+    type Triangle = Quad<Exact<Triangle>>;
+    fn parallelogram(&self, s: &QuadSpec) -> Result<Self::Parallelogram, GeometryError> {
+        Quad::with_interior(s.q, s.u, s.v, Exact(Parallelogram))
+    }
+    fn triangle(&self, s: &QuadSpec) -> Result<Self::Triangle, GeometryError> {
+        Quad::with_interior(s.q, s.u, s.v, Exact(Triangle))
+    }
+}
+
+/// hitkit's defaults: watertight (widened) interiors.
+struct DefaultShapes;
+
+impl Shapes for DefaultShapes {
+    type Parallelogram = Quad;
+    type Triangle = Quad<Triangle>;
+    fn parallelogram(&self, s: &QuadSpec) -> Result<Quad, GeometryError> {
+        Quad::new(s.q, s.u, s.v)
+    }
+    fn triangle(&self, s: &QuadSpec) -> Result<Quad<Triangle>, GeometryError> {
+        Quad::with_interior(s.q, s.u, s.v, Triangle)
+    }
+}
+
+/// The closest hit among `faces` and which face it is.
+#[inline]
+fn closest<T: Hittable>(faces: &[T], ray: &Ray, range: Interval) -> Option<(usize, HitRecord)> {
+    let mut best = None;
+    let mut max = range.max;
+    for (i, face) in faces.iter().enumerate() {
+        if let Some(hit) = face.hit(ray, Interval::new(range.min, max)) {
+            max = hit.t;
+            best = Some((i, hit));
+        }
+    }
+    best
+}
+
+/// Whether any number a hit reports is NaN.
+fn has_nan(hit: &HitRecord) -> bool {
+    hit.t.is_nan() || hit.point.is_nan() || hit.normal.is_nan() || hit.uv.is_nan()
+}
+
+/// Builds every shape of `specs` with `build`, naming what failed.
+pub fn build_all<T>(
+    specs: &[QuadSpec],
+    build: impl Fn(&QuadSpec) -> Result<T, GeometryError>,
+    what: &str,
+) -> Result<Vec<T>, String> {
+    specs
+        .iter()
+        .map(|s| build(s).map_err(|e| format!("cannot build a {what} ({s:?}): {e}")))
+        .collect()
+}
+
+/// Every target of `group`, built with `build`.
+fn build_group<T>(
+    group: &Group,
+    build: impl Fn(&QuadSpec) -> Result<T, GeometryError> + Copy,
+    what: &str,
+) -> Result<Vec<Vec<T>>, String> {
+    group
+        .targets
+        .iter()
+        .map(|faces| build_all(faces, build, what))
+        .collect()
+}
+
+/// Counts cracks (rays hitting none of their target's shapes) and NaN hits.
+fn count_cracks<T: Hittable>(
+    tally: &mut Tally,
+    group: &Group,
+    targets: &[Vec<T>],
+    range: Interval,
+    name: &str,
+) {
+    tally.measured(Failure::Crack);
+    tally.measured(Failure::Nan);
+    for &(target, ray) in &group.rays {
+        let place = || {
+            let (offset, scale) = group.placements[target];
+            format!("{name} at {} x {}", short(offset), short(scale))
+        };
+        match closest(&targets[target], &ray, range) {
+            None => tally.add(Failure::Crack, place),
+            Some((_, hit)) if has_nan(&hit) => tally.add(Failure::Nan, place),
+            Some(_) => {}
+        }
+    }
+}
+
+/// The cracks of a group whose corners were rounded one by one (counted apart from the
+/// table).
+fn count_gap_cracks<T: Hittable>(
+    group: &Group,
+    build: impl Fn(&QuadSpec) -> Result<T, GeometryError> + Copy,
+    range: Interval,
+) -> Result<u64, String> {
+    let targets = build_group(group, build, "rounded-corner quad")?;
+    let mut gaps = Tally::default();
+    count_cracks(&mut gaps, group, &targets, range, "rounded corners");
+    Ok(gaps.count(Failure::Crack).unwrap_or(0))
+}
+
+/// The timed loop of the geometry rows: every ray of `group` against its target's faces.
+fn trace_group<T: Hittable>(group: &Group, targets: &[Vec<T>], range: Interval) -> u64 {
+    let mut hits = 0;
+    for &(target, ray) in &group.rays {
+        if closest(black_box(&targets[target]), black_box(&ray), range).is_some() {
+            hits += 1;
+        }
+    }
+    hits
+}
+
+/// Traces one spawn case: the primary ray, then the reflected and transmitted rays spawned
+/// from its hit. Failures go to `fail` (the tally, or a counter when timing).
+#[inline]
+fn trace_spawn_case<T: Hittable>(
+    pair: &[T; 2],
+    case: &SpawnCase,
+    spawning: Spawning,
+    mut fail: impl FnMut(Failure),
+) {
+    let range = spawning.range();
+    let hit = match closest(pair, &case.primary, range) {
+        Some((0, hit)) => hit,
+        _ => return fail(Failure::Lost),
+    };
+    if has_nan(&hit) {
+        fail(Failure::Nan);
+    }
+    for (direction, up) in [(case.reflected, false), (case.transmitted, true)] {
+        let ray = spawning.secondary(&hit, direction);
+        match closest(pair, &ray, range) {
+            Some((0, _)) => fail(Failure::SelfHit),
+            Some((_, h)) if has_nan(&h) => fail(Failure::Nan),
+            // The reflected ray goes down, away from the ceiling; the transmitted one must
+            // reach it.
+            None if up => fail(Failure::Lost),
+            _ => {}
+        }
+    }
+}
+
+/// The floor and ceiling of every spawn placement, built with `build`.
+fn spawn_pairs<T>(
+    spawn: &Spawn,
+    build: impl Fn(&QuadSpec) -> Result<T, GeometryError> + Copy,
+) -> Result<Vec<[T; 2]>, String> {
+    spawn
+        .pairs
+        .iter()
+        .map(|[floor, ceiling]| Ok([build_one(floor, build)?, build_one(ceiling, build)?]))
+        .collect()
+}
+
+/// Counts the spawn workload's self-hits, lost hits and NaN hits.
+fn count_spawn<T: Hittable>(
+    tally: &mut Tally,
+    spawn: &Spawn,
+    pairs: &[[T; 2]],
+    spawning: Spawning,
+) {
+    for kind in [Failure::SelfHit, Failure::Lost, Failure::Nan] {
+        tally.measured(kind);
+    }
+    for case in &spawn.cases {
+        trace_spawn_case(&pairs[case.pair], case, spawning, |kind| {
+            tally.add(kind, || {
+                let (offset, size) = spawn.placements[case.pair];
+                format!("spawn at {} x {}", short(offset), short(size))
+            });
+        });
+    }
+}
+
+/// The time per traced ray of the spawn workload (each case traces three).
+fn time_spawn<T: Hittable>(
+    spawn: &Spawn,
+    pairs: &[[T; 2]],
+    spawning: Spawning,
+    repetitions: usize,
+) -> f64 {
+    median_ns_per_ray(repetitions, 3 * spawn.cases.len(), || {
+        let mut failures = 0;
+        for case in &spawn.cases {
+            trace_spawn_case(black_box(&pairs[case.pair]), case, spawning, |_| {
+                failures += 1;
+            });
+        }
+        failures
+    })
+}
+
+/// One shape, with the error message naming it.
+fn build_one<T>(
+    spec: &QuadSpec,
+    build: impl Fn(&QuadSpec) -> Result<T, GeometryError>,
+) -> Result<T, String> {
+    build(spec).map_err(|e| format!("cannot build a quad ({spec:?}): {e}"))
+}
+
+/// Counts the degenerate workload's lost hits (rays aimed well inside a quad that miss it)
+/// and NaN hits.
+fn count_degenerate<T: Hittable>(
+    tally: &mut Tally,
+    degenerate: &Degenerate,
+    quads: &[T],
+    range: Interval,
+) {
+    tally.measured(Failure::Lost);
+    tally.measured(Failure::Nan);
+    for r in &degenerate.rays {
+        let DegenerateRay { quad, ray, kind } = *r;
+        let place = || {
+            let what = match kind {
+                DegenerateKind::Length(e) => format!("direction length 1e{e}"),
+                DegenerateKind::Grazing(angle) => format!("grazing at {} rad", short(angle)),
+                DegenerateKind::Zero => "zero direction".to_string(),
+            };
+            format!("{what} at {}", short(degenerate.offsets[quad]))
+        };
+        match quads[quad].hit(&ray, range) {
+            None if r.should_hit() => tally.add(Failure::Lost, place),
+            Some(hit) if has_nan(&hit) => tally.add(Failure::Nan, place),
+            _ => {}
+        }
+    }
+}
+
+/// Rows 1-3: one choice of shapes on the edges, spawn and degenerate workloads; timed on the
+/// box-edge rays.
+fn shape_row<S: Shapes>(
+    shapes: &S,
+    spawning: Spawning,
+    workloads: &Workloads,
+    repetitions: usize,
+) -> Result<Measured, String> {
+    let mut tally = Tally::default();
+    let range = spawning.range();
+    let edges = &workloads.edges;
+    let para = |s: &QuadSpec| shapes.parallelogram(s);
+    let tri = |s: &QuadSpec| shapes.triangle(s);
+
+    let boxes = build_group(&edges.boxes, para, "box face")?;
+    count_cracks(&mut tally, &edges.boxes, &boxes, range, "box edges");
+    let coplanar = build_group(&edges.coplanar, para, "coplanar quad")?;
+    count_cracks(
+        &mut tally,
+        &edges.coplanar,
+        &coplanar,
+        range,
+        "coplanar edge",
+    );
+    let triangles = build_group(&edges.triangles, tri, "triangle")?;
+    count_cracks(&mut tally, &edges.triangles, &triangles, range, "diagonal");
+    let rounded_cracks = (
+        count_gap_cracks(&edges.rounded_boxes, para, range)?,
+        count_gap_cracks(&edges.rounded_coplanar, para, range)?,
+    );
+
+    let pairs = spawn_pairs(&workloads.spawn, para)?;
+    count_spawn(&mut tally, &workloads.spawn, &pairs, spawning);
+    let quads = build_all(&workloads.degenerate.quads, para, "quad")?;
+    count_degenerate(&mut tally, &workloads.degenerate, &quads, range);
+
+    let ns_per_ray = median_ns_per_ray(repetitions, edges.boxes.rays.len(), || {
+        trace_group(&edges.boxes, &boxes, range)
+    });
+    Ok(Measured {
+        tally,
+        rounded_cracks: Some(rounded_cracks),
+        ns_per_ray,
+    })
+}
+
+/// Row 4: the spawn workload on hitkit's default quads, with one way of spawning.
+fn spawn_offset_row(
+    workloads: &Workloads,
+    spawning: Spawning,
+    repetitions: usize,
+) -> Result<Measured, String> {
+    let pairs = spawn_pairs(&workloads.spawn, |s| Quad::new(s.q, s.u, s.v))?;
+    let mut tally = Tally::default();
+    count_spawn(&mut tally, &workloads.spawn, &pairs, spawning);
+    let ns = time_spawn(&workloads.spawn, &pairs, spawning, repetitions);
+    Ok(Measured::new(tally, ns))
+}
+
+/// Every row of the table, in order, and the notes on the box tests.
+pub fn measure(workloads: &Workloads, repetitions: usize) -> Result<(Vec<Row>, BoxNotes), String> {
+    let book = Spawning::TMin(book::T_MIN);
+    let mut rows = vec![
+        row(
+            "book",
+            "nothing (the baseline: 1e-8 parallel test, t = (D - n.o) / n.d, p = o + t d, t_min = 0.001)",
+            shape_row(&BookShapes, book, workloads, repetitions)?,
+        ),
+        row(
+            "well-conditioned (`Exact`)",
+            "far-out accuracy: t = n.(q - o) / n.d, p - q = (o - q) + t d; no 1e-8 test or t_min; `spawn_ray`",
+            shape_row(&ExactShapes, Spawning::Offset, workloads, repetitions)?,
+        ),
+        row(
+            "watertight (default)",
+            "cracks: points within a derived error bound of an edge count as inside",
+            shape_row(&DefaultShapes, Spawning::Offset, workloads, repetitions)?,
+        ),
+        row(
+            "spawn offset: `spawn_ray`, t >= 0",
+            "self-hits, with no epsilon: the origin moves off by the hit point's error bound",
+            spawn_offset_row(workloads, Spawning::Offset, repetitions)?,
+        ),
+        row(
+            "spawn offset: hit point, t_min = 0.001",
+            "self-hits where errors stay below 0.001 (the book's way), losing nearer surfaces",
+            spawn_offset_row(workloads, book, repetitions)?,
+        ),
+    ];
+    let (box_rows, notes) = box_tests::box_rows(&workloads.boxes, repetitions)?;
+    rows.extend(box_rows);
+    Ok((rows, notes))
+}
+
+/// How many rays each workload traces, for the printed description.
+pub struct RayCounts {
+    pub edges: usize,
+    pub rounded_boxes: usize,
+    pub rounded_coplanar: usize,
+    pub spawn: usize,
+    pub degenerate: usize,
+    pub boxes: usize,
+}
+
+impl RayCounts {
+    /// The counts of `workloads`.
+    pub fn of(workloads: &Workloads) -> Self {
+        let edges = &workloads.edges;
+        Self {
+            edges: edges.boxes.rays.len() + edges.coplanar.rays.len() + edges.triangles.rays.len(),
+            rounded_boxes: edges.rounded_boxes.rays.len(),
+            rounded_coplanar: edges.rounded_coplanar.rays.len(),
+            spawn: workloads.spawn.cases.len(),
+            degenerate: workloads.degenerate.rays.len(),
+            boxes: workloads.boxes.rays.len(),
+        }
+    }
+}
+
+/// The placements of the edges workload, for the printed description.
+pub fn placements() -> String {
+    PLACEMENTS
+        .iter()
+        .map(|&(offset, scale)| format!("{} x {}", short(offset), short(scale)))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
