@@ -216,6 +216,44 @@ impl<T: Hittable> Hittable for [T] {
     }
 }
 
+/// A uniform mixture of lights: `sample_direction` picks one with probability `1 / n` (by
+/// `u.x`, whose remaining digits are reused for the light's own sample, so one point of
+/// `[0, 1)^2` still makes one direction), and `pdf_value` is the mean of their densities,
+/// which is the mixture's density. An empty list has density 0 everywhere and samples
+/// the zero direction, which hits nothing.
+impl<T: PdfHittable> PdfHittable for [T] {
+    fn pdf_value(&self, origin: DVec3, direction: DVec3) -> f64 {
+        if self.is_empty() {
+            return 0.0;
+        }
+        self.iter()
+            .map(|light| light.pdf_value(origin, direction))
+            .sum::<f64>()
+            / self.len() as f64
+    }
+
+    fn sample_direction(&self, origin: DVec3, u: DVec2) -> DVec3 {
+        let Some(last) = self.len().checked_sub(1) else {
+            return DVec3::ZERO;
+        };
+        let scaled = u.x.clamp(0.0, 1.0) * self.len() as f64;
+        let index = (scaled as usize).min(last);
+        let rest = DVec2::new((scaled - index as f64).clamp(0.0, 1.0), u.y);
+        self[index].sample_direction(origin, rest)
+    }
+}
+
+impl<T: PdfHittable> PdfHittable for Vec<T> {
+    #[inline]
+    fn pdf_value(&self, origin: DVec3, direction: DVec3) -> f64 {
+        self.as_slice().pdf_value(origin, direction)
+    }
+    #[inline]
+    fn sample_direction(&self, origin: DVec3, u: DVec2) -> DVec3 {
+        self.as_slice().sample_direction(origin, u)
+    }
+}
+
 impl<T: Hittable> Hittable for Vec<T> {
     #[inline]
     fn hit(&self, ray: &Ray, ray_t: Interval) -> Option<HitRecord> {

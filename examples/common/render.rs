@@ -4,7 +4,7 @@ use std::f64::consts::PI;
 use std::io::IsTerminal;
 
 use hitkit::glam::{DVec2, DVec3};
-use hitkit::{Hittable, Interval, Ray};
+use hitkit::{Hittable, Interval, PdfHittable, Ray};
 use indicatif::{ProgressBar, ProgressStyle};
 use rand::rngs::SmallRng;
 use rand::{RngExt, SeedableRng};
@@ -188,11 +188,10 @@ fn radiance<W: Hittable, const BG: bool, const EMIT: bool, const LIGHTS: bool>(
             Scatter::Diffuse(albedo) if LIGHTS && !scene.lights.is_empty() => {
                 // Half the samples toward a light, half cosine-weighted; the weight is the
                 // Lambertian density over the mixture's.
-                let lights = &scene.lights;
+                // The lights as one: hitkit's uniform mixture over the list.
+                let lights = scene.lights.as_slice();
                 let direction = if rng.random::<f64>() < 0.5 {
-                    let light = &lights
-                        [(rng.random::<f64>() * lights.len() as f64) as usize % lights.len()];
-                    light.sample_direction(hit.point, DVec2::new(rng.random(), rng.random()))
+                    lights.sample_direction(hit.point, DVec2::new(rng.random(), rng.random()))
                 } else {
                     cosine_direction(hit.normal, rng)
                 };
@@ -200,11 +199,7 @@ fn radiance<W: Hittable, const BG: bool, const EMIT: bool, const LIGHTS: bool>(
                 if cos.is_nan() || cos <= 0.0 {
                     break; // below the surface: the Lambertian density there is 0
                 }
-                let light_pdf = lights
-                    .iter()
-                    .map(|l| l.pdf_value(hit.point, direction))
-                    .sum::<f64>()
-                    / lights.len() as f64;
+                let light_pdf = lights.pdf_value(hit.point, direction);
                 let mixture = 0.5 * cos / PI + 0.5 * light_pdf;
                 throughput *= albedo * (cos / PI / mixture);
                 direction

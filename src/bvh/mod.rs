@@ -6,7 +6,7 @@ mod traverse;
 
 use alloc::vec::Vec;
 
-use crate::{Aabb, HitRecord, Hittable, Interval, Ray};
+use crate::{Aabb, HitRecord, Hittable, Interval, PdfHittable, Ray};
 
 /// Deepest a tree gets; the traversal stack has this many entries. The build switches to
 /// median splits (which halve the count) well before it: see `build::MEDIAN_FROM_DEPTH`.
@@ -147,5 +147,18 @@ impl<T: Hittable> Hittable for Bvh<T> {
             found
         });
         found
+    }
+}
+
+/// A uniform mixture of all its objects, as for a slice (see [`PdfHittable`] for `[T]`).
+impl<T: PdfHittable> PdfHittable for Bvh<T> {
+    #[inline]
+    fn pdf_value(&self, origin: glam::DVec3, direction: glam::DVec3) -> f64 {
+        self.objects.as_slice().pdf_value(origin, direction)
+    }
+
+    #[inline]
+    fn sample_direction(&self, origin: glam::DVec3, u: glam::DVec2) -> glam::DVec3 {
+        self.objects.as_slice().sample_direction(origin, u)
     }
 }
