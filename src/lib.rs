@@ -68,6 +68,7 @@ mod quad;
 mod ray;
 mod sampling;
 mod sphere;
+mod spherical;
 mod transform;
 
 #[cfg(feature = "approx")]

@@ -6,6 +6,7 @@ use core::f64::consts::{PI, TAU};
 use glam::{DVec2, DVec3};
 
 use crate::math::{sin_cos, sqrt, unit_and_length};
+use crate::spherical::SphericalRectangle;
 use crate::{Disk, Interior, Interval, Parallelogram, PdfHittable, Quad, Ray, Ring, Triangle};
 
 /// An [`Interior`] that knows its area and draws uniform points from it, both in
@@ -47,6 +48,13 @@ pub trait SampleInterior: Interior {
     /// A point `(alpha, beta)` of the shape, uniformly distributed over its area when `u` is
     /// uniform in `[0, 1)^2`. [`Quad`] clamps `u` into `[0, 1]^2` before calling it.
     fn sample(&self, u: DVec2) -> DVec2;
+
+    /// Whether the shape is the whole parallelogram, so that a quad of it whose edges are
+    /// perpendicular (a rectangle) can be sampled uniformly in solid angle. Default: no.
+    #[inline]
+    fn is_parallelogram(&self) -> bool {
+        false
+    }
 }
 
 impl SampleInterior for Parallelogram {
@@ -58,6 +66,11 @@ impl SampleInterior for Parallelogram {
     #[inline]
     fn sample(&self, u: DVec2) -> DVec2 {
         u
+    }
+
+    #[inline]
+    fn is_parallelogram(&self) -> bool {
+        true
     }
 }
 
@@ -120,21 +133,45 @@ impl<S: SampleInterior> Quad<S> {
     }
 }
 
-/// Area-uniform sampling of the shape.
+impl<S: SampleInterior> Quad<S> {
+    /// The spherical rectangle this quad subtends from `origin`, where it is sampled by solid
+    /// angle: a rectangle whose solid angle is neither tiny nor near a hemisphere.
+    #[inline]
+    fn spherical(&self, origin: DVec3) -> Option<SphericalRectangle> {
+        if self.shape().is_parallelogram() {
+            SphericalRectangle::new(self.plane(), origin)
+        } else {
+            None
+        }
+    }
+}
+
+/// Directions toward a quad are drawn uniformly over its area, except for rectangles that
+/// subtend a solid angle between about 3e-4 and 6.22 steradians (pbrt-v4's bounds), which
+/// are sampled uniformly in that solid angle (Ureña et al. 2013): lower variance near the
+/// light, where area sampling's `distance^2 / cos` weights vary most. `pdf_value` follows
+/// the same choice, which depends on the origin only.
 ///
 /// ```
 /// use hitkit::glam::{DVec2, DVec3};
-/// use hitkit::{PdfHittable, Quad};
+/// use hitkit::{PdfHittable, Quad, Triangle};
 ///
-/// // A 2 x 2 ceiling light, 1 above the origin.
-/// let light = Quad::new(DVec3::new(-1.0, 1.0, -1.0), DVec3::X * 2.0, DVec3::Z * 2.0).unwrap();
-/// let direction = light.sample_direction(DVec3::ZERO, DVec2::new(0.5, 0.5));
-/// assert_eq!(direction, DVec3::Y);
-/// // Straight up, distance 1, cosine 1: the density is 1 / area.
-/// assert_eq!(light.pdf_value(DVec3::ZERO, direction), 0.25);
-/// assert_eq!(light.pdf_value(DVec3::ZERO, -DVec3::Y), 0.0); // misses
+/// // A triangular ceiling light 1 above the origin, sampled over its area.
+/// let light = Quad::with_interior(DVec3::new(-1.0, 1.0, -1.0), DVec3::X * 2.0, DVec3::Z * 2.0, Triangle).unwrap();
+/// let up = DVec3::Y;
+/// // Straight up, distance 1, cosine 1: the density is 1 / area = 1 / 2.
+/// assert_eq!(light.pdf_value(DVec3::ZERO, up), 0.5);
+/// assert_eq!(light.pdf_value(DVec3::ZERO, -up), 0.0); // misses
+///
+/// // A 2 x 2 square there is sampled by solid angle: the same density in every direction
+/// // that reaches it, one over its solid angle (about 2.09 sr).
+/// let square = Quad::new(DVec3::new(-1.0, 1.0, -1.0), DVec3::X * 2.0, DVec3::Z * 2.0).unwrap();
+/// let d = square.sample_direction(DVec3::ZERO, DVec2::new(0.3, 0.8));
+/// assert_eq!(square.pdf_value(DVec3::ZERO, d), square.pdf_value(DVec3::ZERO, up));
+/// assert!((square.pdf_value(DVec3::ZERO, up) - 1.0 / 2.0944).abs() < 1e-4);
 /// ```
 impl<S: SampleInterior> PdfHittable for Quad<S> {
+    /// `1 / solid angle` where the quad is sampled by solid angle; else
     /// `distance^2 / (|cos| area)`, the area density `1 / area` turned into one over solid
     /// angle at `origin`, where `cos` is between `direction` and the normal. 0 on a miss and
     /// wherever that is not a finite number: an origin in the plane, a grazing direction
@@ -148,6 +185,9 @@ impl<S: SampleInterior> PdfHittable for Quad<S> {
             Some(hit) if self.shape().contains(hit.alpha, hit.beta) => hit,
             _ => return 0.0,
         };
+        if let Some(rectangle) = self.spherical(origin) {
+            return 1.0 / rectangle.solid_angle();
+        }
         // Through the unit direction and its length: no overflow in |d|^2 for long ones.
         let (unit, length) = unit_and_length(direction);
         let distance = hit.t * length;
@@ -165,7 +205,11 @@ impl<S: SampleInterior> PdfHittable for Quad<S> {
     /// it: [`pdf_value`](PdfHittable::pdf_value) is then 0 for that direction, and a renderer
     /// should count the sample as failed rather than divide by it.
     fn sample_direction(&self, origin: DVec3, u: DVec2) -> DVec3 {
-        let at = self.shape().sample(u.clamp(DVec2::ZERO, DVec2::ONE));
+        let u = u.clamp(DVec2::ZERO, DVec2::ONE);
+        if let Some(rectangle) = self.spherical(origin) {
+            return rectangle.sample(u);
+        }
+        let at = self.shape().sample(u);
         let plane = self.plane();
         (plane.q() - origin) + (at.x * plane.u() + at.y * plane.v())
     }
@@ -180,5 +224,10 @@ impl<S: SampleInterior> SampleInterior for crate::Exact<S> {
     #[inline]
     fn sample(&self, u: DVec2) -> DVec2 {
         self.0.sample(u)
+    }
+
+    #[inline]
+    fn is_parallelogram(&self) -> bool {
+        self.0.is_parallelogram()
     }
 }

@@ -1,0 +1,82 @@
+//! Light sampling: area sampling against solid-angle sampling of a unit square light, seen
+//! from heights 0.01, 0.1, 1 and 10 above a point near its centre. For each, the variance
+//! per sample of the irradiance estimate (`cos / pdf`) and the time per sample (direction
+//! and density).
+
+use std::hint::black_box;
+use std::time::Instant;
+
+use hitkit::glam::{DVec2, DVec3};
+use hitkit::{PdfHittable, Quad, Triangle};
+
+/// One row: height, then (variance per sample, ns per sample) for area and solid angle.
+pub struct SamplerRow {
+    pub height: f64,
+    pub area: (f64, f64),
+    pub solid_angle: (f64, f64),
+}
+
+/// The square as one rectangle (sampled by solid angle where hitkit does so) and as two
+/// triangles (their uniform mixture is area sampling of the same square).
+fn lights() -> (Quad, Vec<Quad<Triangle>>) {
+    let q = DVec3::new(-0.5, -0.5, 0.0);
+    let rectangle = Quad::new(q, DVec3::X, DVec3::Y).expect("a unit square");
+    let halves = vec![
+        Quad::with_interior(q, DVec3::X, DVec3::Y, Triangle).expect("a half square"),
+        Quad::with_interior(q + DVec3::X + DVec3::Y, -DVec3::X, -DVec3::Y, Triangle)
+            .expect("a half square"),
+    ];
+    (rectangle, halves)
+}
+
+/// Variance per sample and median ns per sample (of 5 timed runs) of `n` estimates.
+fn measure(light: &dyn PdfHittable, origin: DVec3, n: usize) -> (f64, f64) {
+    let mut state = 0x5eed_u64;
+    let mut next = move || {
+        state = state.wrapping_add(0x9e37_79b9_7f4a_7c15);
+        let mut z = state;
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let mut estimate = || {
+        let d = light.sample_direction(origin, DVec2::new(next(), next()));
+        let pdf = light.pdf_value(origin, d);
+        if pdf > 0.0 {
+            -d.normalize().z / pdf
+        } else {
+            0.0
+        }
+    };
+    let mut times = Vec::new();
+    let (mut sum, mut sum2) = (0.0, 0.0);
+    for _ in 0..5 {
+        let start = Instant::now();
+        for _ in 0..n {
+            let x = black_box(estimate());
+            sum += x;
+            sum2 += x * x;
+        }
+        times.push(start.elapsed().as_secs_f64() * 1e9 / n as f64);
+    }
+    times.sort_by(f64::total_cmp);
+    let count = (5 * n) as f64;
+    let mean = sum / count;
+    ((sum2 / count - mean * mean).max(0.0), times[2])
+}
+
+pub fn measure_all(quick: bool) -> Vec<SamplerRow> {
+    let (rectangle, halves) = lights();
+    let n = if quick { 2_000 } else { 200_000 };
+    [0.01, 0.1, 1.0, 10.0]
+        .into_iter()
+        .map(|height| {
+            let origin = DVec3::new(0.1, -0.2, height);
+            SamplerRow {
+                height,
+                area: measure(&halves, origin, n),
+                solid_angle: measure(&rectangle, origin, n),
+            }
+        })
+        .collect()
+}
