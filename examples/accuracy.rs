@@ -28,6 +28,9 @@ mod plot;
 mod rendering;
 #[path = "accuracy/samplers.rs"]
 mod samplers;
+#[path = "../benches/peers/src/scene.rs"]
+#[allow(dead_code)] // the shared random stream and the machine's name are what this uses
+mod scene;
 #[path = "accuracy/spawn.rs"]
 mod spawn;
 #[path = "accuracy/tally.rs"]
@@ -95,21 +98,6 @@ impl Options {
         }
         Ok(Some(options))
     }
-}
-
-/// "AMD EPYC, 2 cores": the CPU model from /proc/cpuinfo and the cores this process may use.
-fn machine() -> String {
-    let model = std::fs::read_to_string("/proc/cpuinfo")
-        .ok()
-        .and_then(|info| {
-            info.lines()
-                .find(|line| line.starts_with("model name"))
-                .and_then(|line| line.split_once(':'))
-                .map(|(_, model)| model.trim().to_string())
-        })
-        .unwrap_or_else(|| "unknown CPU".to_string());
-    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
-    format!("{model}, {cores} cores")
 }
 
 /// A count, or "–" for a workload the row does not run.
@@ -302,7 +290,7 @@ fn run(options: &Options) -> Result<(), String> {
             options.output_dir.display()
         )
     })?;
-    let machine = machine();
+    let machine = scene::machine();
     println!("# What each accuracy choice fixes and what it costs\n");
     println!("Machine: {machine}.\n");
     println!("## Geometry\n");

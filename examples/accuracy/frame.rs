@@ -9,23 +9,20 @@ pub const SEED: u64 = 0x5eed;
 /// Offsets are along this direction (not an axis, so that every coordinate is large).
 const OFFSET_DIRECTION: DVec3 = DVec3::new(1.0, 0.75, -0.5);
 
-/// SplitMix64: a tiny generator with a fixed, portable sequence.
-#[derive(Clone, Debug)]
-pub struct Rng(u64);
+/// The shared fixed stream (SplitMix64, as the benches use), with the draws the workloads
+/// need.
+#[derive(Clone)]
+pub struct Rng(crate::scene::SplitMix);
 
 impl Rng {
     /// A generator seeded with `seed`.
     pub fn new(seed: u64) -> Self {
-        Self(seed)
+        Self(crate::scene::SplitMix::new(seed))
     }
 
     /// The next 64 random bits.
     pub fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^ (z >> 31)
+        self.0.next_u64()
     }
 
     /// Uniform in `[0, 1)`.

@@ -31,14 +31,8 @@ fn lights() -> (Quad, Vec<Quad<Triangle>>) {
 
 /// Variance per sample and median ns per sample (of 5 timed runs) of `n` estimates.
 fn measure(light: &dyn PdfHittable, origin: DVec3, n: usize) -> (f64, f64) {
-    let mut state = 0x5eed_u64;
-    let mut next = move || {
-        state = state.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = state;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
-    };
+    let mut rng = crate::scene::SplitMix::new(0x5eed);
+    let mut next = move || rng.next_f64();
     let mut estimate = || {
         let d = light.sample_direction(origin, DVec2::new(next(), next()));
         let pdf = light.pdf_value(origin, d);

@@ -366,22 +366,6 @@ fn quads(tris: &[scene::Tri]) -> Vec<Quad<Triangle>> {
         .collect()
 }
 
-/// The CPU's name and the number of cores.
-fn machine() -> String {
-    let cpu = std::fs::read_to_string("/proc/cpuinfo")
-        .ok()
-        .and_then(|info| {
-            info.lines().find_map(|l| {
-                l.strip_prefix("model name")
-                    .and_then(|r| r.split_once(':'))
-                    .map(|(_, n)| n.trim().to_owned())
-            })
-        })
-        .unwrap_or_else(|| "unknown CPU".into());
-    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
-    format!("{cpu}, {cores} cores")
-}
-
 /// Rays that hit, and the sum of their `t`.
 fn summary(hits: &[Hit]) -> (usize, f64) {
     hits.iter()
@@ -516,7 +500,7 @@ fn main() -> ExitCode {
 
     println!(
         "{}; single-threaded; {} camera rays ({side} x {side}), {} random rays; median of {} runs; seed {:#x}\n",
-        machine(),
+        scene::machine(),
         args.side * args.side,
         args.rays,
         args.runs,

@@ -9,6 +9,7 @@ pub type Tri = [DVec3; 3];
 
 /// SplitMix64 (Steele, Lea and Flood 2014): a fixed stream for a fixed seed, on every
 /// platform and every version of every crate.
+#[derive(Clone, Debug)]
 pub struct SplitMix(u64);
 
 impl SplitMix {
@@ -91,4 +92,21 @@ pub fn camera_rays((lo, hi): (DVec3, DVec3), side: usize) -> Vec<Ray> {
         }
     }
     rays
+}
+
+/// The CPU's name (from /proc/cpuinfo where there is one) and the number of cores, to name
+/// the machine beside every figure printed.
+pub fn machine() -> String {
+    let cpu = std::fs::read_to_string("/proc/cpuinfo")
+        .ok()
+        .and_then(|info| {
+            info.lines().find_map(|l| {
+                l.strip_prefix("model name")
+                    .and_then(|r| r.split_once(':'))
+                    .map(|(_, n)| n.trim().to_owned())
+            })
+        })
+        .unwrap_or_else(|| "unknown CPU".into());
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    format!("{cpu}, {cores} cores")
 }
