@@ -148,12 +148,11 @@ impl PdfHittable for Sphere {
     fn pdf_value(&self, origin: DVec3, direction: DVec3) -> f64 {
         match self.cone(origin) {
             Some(one_minus_cos) => {
+                // Only whether the ray meets the sphere ahead: the roots, not a hit record
+                // (whose point, error bound and uv this would compute and throw away).
                 let hits = self
-                    .hit(
-                        &Ray::new(origin, direction),
-                        Interval::new(0.0, f64::INFINITY),
-                    )
-                    .is_some();
+                    .roots(&Ray::new(origin, direction))
+                    .is_some_and(|(_, far)| far >= 0.0);
                 if hits {
                     1.0 / (TAU * one_minus_cos)
                 } else {
