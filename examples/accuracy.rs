@@ -306,18 +306,20 @@ fn run(options: &Options) -> Result<(), String> {
 
     println!("## Light sampling: area against solid angle\n");
     println!(
-        "A unit square light, seen from a point (0.1, -0.2) off its centre at each height; the \
-         irradiance estimate cos / pdf, its variance per sample and the time per sample \
-         (direction and density; median of 5 runs). Area sampling: the square as two \
-         triangles (their mixture is area-uniform); solid angle: the square itself.\n"
+        "A unit square light (corners (-0.5, -0.5, 0) and (0.5, 0.5, 0)) and its lower-left \
+         half, a triangle, seen from a point (0.1, -0.2) at each height; the irradiance \
+         estimate cos / pdf, its variance per sample and the time per sample (direction and \
+         density; median of 5 runs), with `Sampling::Area` and with the default \
+         `Sampling::SolidAngle`.\n"
     );
     println!(
-        "| height | area: variance | area: ns | solid angle: variance | solid angle: ns | variance ratio |"
+        "| shape | height | area: variance | area: ns | solid angle: variance | solid angle: ns | variance ratio |"
     );
-    println!("|---:|---:|---:|---:|---:|---:|");
+    println!("|---|---:|---:|---:|---:|---:|---:|");
     for row in samplers::measure_all(options.quick) {
         println!(
-            "| {} | {:.4e} | {:.1} | {:.4e} | {:.1} | {:.3} |",
+            "| {} | {} | {:.4e} | {:.1} | {:.4e} | {:.1} | {:.3} |",
+            row.shape,
             row.height,
             row.area.0,
             row.area.1,

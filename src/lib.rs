@@ -86,7 +86,7 @@ pub use interval::Interval;
 pub use plane::{Plane, PlaneHit};
 pub use quad::Quad;
 pub use ray::Ray;
-pub use sampling::SampleInterior;
+pub use sampling::{SampleInterior, Sampling};
 pub use sphere::Sphere;
 pub use transform::Transformed;
 

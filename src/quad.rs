@@ -2,7 +2,7 @@ use glam::DVec3;
 
 use crate::{
     Aabb, GeometryError, HitRecord, Hittable, Interior, Interval, MaterialId, Parallelogram, Plane,
-    Ray,
+    Ray, Sampling,
 };
 
 /// A planar shape: a [`Plane`] finds `(t, alpha, beta)`, an [`Interior`] predicate decides
@@ -37,6 +37,7 @@ pub struct Quad<S = Parallelogram> {
     plane: Plane,
     shape: S,
     bbox: Aabb,
+    sampling: Sampling,
 }
 
 impl Quad<Parallelogram> {
@@ -57,7 +58,12 @@ impl<S: Interior> Quad<S> {
     pub fn with_interior(q: DVec3, u: DVec3, v: DVec3, shape: S) -> Result<Self, GeometryError> {
         let plane = Plane::new(q, u, v)?;
         let bbox = shape.bounding_box(&plane);
-        Ok(Self { plane, shape, bbox })
+        Ok(Self {
+            plane,
+            shape,
+            bbox,
+            sampling: Sampling::default(),
+        })
     }
 
     /// The same shape with material `material`.
@@ -66,6 +72,22 @@ impl<S: Interior> Quad<S> {
     pub fn with_material(mut self, material: MaterialId) -> Self {
         self.plane = self.plane.with_material(material);
         self
+    }
+
+    /// The same shape, sampled as a light by `sampling` (see [`Sampling`]; the default
+    /// samples rectangles and triangles by solid angle where that is accurate).
+    #[inline]
+    #[must_use]
+    pub fn with_sampling(mut self, sampling: Sampling) -> Self {
+        self.sampling = sampling;
+        self
+    }
+
+    /// How the shape is sampled as a light.
+    #[inline]
+    #[must_use]
+    pub fn sampling(&self) -> Sampling {
+        self.sampling
     }
 
     /// The plane the shape lies on.

@@ -6,7 +6,7 @@ use core::f64::consts::{PI, TAU};
 use glam::{DVec2, DVec3};
 
 use crate::math::{sin_cos, sqrt, unit_and_length};
-use crate::spherical::SphericalRectangle;
+use crate::spherical::Polygon;
 use crate::{Disk, Interior, Interval, Parallelogram, PdfHittable, Quad, Ray, Ring, Triangle};
 
 /// An [`Interior`] that knows its area and draws uniform points from it, both in
@@ -55,6 +55,28 @@ pub trait SampleInterior: Interior {
     fn is_parallelogram(&self) -> bool {
         false
     }
+
+    /// Whether the shape is the whole [`Triangle`] (`q`, `q + u`, `q + v`), so that a quad
+    /// of it can be sampled uniformly in solid angle. Default: no.
+    #[inline]
+    fn is_triangle(&self) -> bool {
+        false
+    }
+}
+
+/// How a [`Quad`] light chooses directions toward itself ([`Quad::with_sampling`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[non_exhaustive]
+pub enum Sampling {
+    /// Rectangles and triangles uniformly in the solid angle they subtend (Ureña et al.
+    /// 2013, Arvo 1995) where it lies between 3e-4 and 6.22 steradians (pbrt-v4's
+    /// bounds, where those samplers are accurate); everything else uniformly over its area.
+    /// Lower variance near a light, for several times the cost per sample.
+    #[default]
+    SolidAngle,
+    /// Uniformly over the shape's area, for every shape and origin: the cheapest sample, and
+    /// as good as solid angle for lights that are small or far.
+    Area,
 }
 
 impl SampleInterior for Parallelogram {
@@ -78,6 +100,11 @@ impl SampleInterior for Triangle {
     #[inline]
     fn area(&self) -> f64 {
         0.5
+    }
+
+    #[inline]
+    fn is_triangle(&self) -> bool {
+        true
     }
 
     /// The square-root warp: `sqrt(u.x)` is the distance from the corner `q + u` toward the
@@ -134,30 +161,38 @@ impl<S: SampleInterior> Quad<S> {
 }
 
 impl<S: SampleInterior> Quad<S> {
-    /// The spherical rectangle this quad subtends from `origin`, where it is sampled by solid
-    /// angle: a rectangle whose solid angle is neither tiny nor near a hemisphere.
+    /// The polygon this quad is sampled as by solid angle from `origin`, and its solid
+    /// angle there: only where [`Sampling::SolidAngle`] says so.
     #[inline]
-    fn spherical(&self, origin: DVec3) -> Option<SphericalRectangle> {
-        if self.shape().is_parallelogram() {
-            SphericalRectangle::new(self.plane(), origin)
-        } else {
-            None
-        }
+    fn spherical(&self, origin: DVec3) -> Option<(Polygon, f64)> {
+        let polygon = match self.sampling() {
+            Sampling::Area => return None,
+            Sampling::SolidAngle if self.shape().is_parallelogram() => {
+                let plane = self.plane();
+                (plane.u().dot(plane.v()) == 0.0).then_some(Polygon::Rectangle)?
+            }
+            Sampling::SolidAngle if self.shape().is_triangle() => Polygon::Triangle,
+            Sampling::SolidAngle => return None,
+        };
+        Some((polygon, polygon.solid_angle(self.plane(), origin)?))
     }
 }
 
-/// Directions toward a quad are drawn uniformly over its area, except for rectangles that
-/// subtend a solid angle between about 3e-4 and 6.22 steradians (pbrt-v4's bounds), which
-/// are sampled uniformly in that solid angle (Ureña et al. 2013): lower variance near the
-/// light, where area sampling's `distance^2 / cos` weights vary most. `pdf_value` follows
-/// the same choice, which depends on the origin only.
+/// Directions toward a quad are drawn uniformly over its area, except for rectangles and
+/// triangles that subtend a solid angle between about 3e-4 and 6.22 steradians (pbrt-v4's
+/// bounds), which are sampled uniformly in that solid angle (Ureña et al. 2013, Arvo 1995):
+/// lower variance near the light, where area sampling's `distance^2 / cos` weights vary
+/// most. `pdf_value` follows the same choice, which depends on the origin only.
+/// [`Quad::with_sampling`]`(`[`Sampling::Area`]`)` samples every origin by area.
 ///
 /// ```
 /// use hitkit::glam::{DVec2, DVec3};
-/// use hitkit::{PdfHittable, Quad, Triangle};
+/// use hitkit::{PdfHittable, Quad, Sampling, Triangle};
 ///
 /// // A triangular ceiling light 1 above the origin, sampled over its area.
-/// let light = Quad::with_interior(DVec3::new(-1.0, 1.0, -1.0), DVec3::X * 2.0, DVec3::Z * 2.0, Triangle).unwrap();
+/// let light = Quad::with_interior(DVec3::new(-1.0, 1.0, -1.0), DVec3::X * 2.0, DVec3::Z * 2.0, Triangle)
+///     .unwrap()
+///     .with_sampling(Sampling::Area);
 /// let up = DVec3::Y;
 /// // Straight up, distance 1, cosine 1: the density is 1 / area = 1 / 2.
 /// assert_eq!(light.pdf_value(DVec3::ZERO, up), 0.5);
@@ -185,8 +220,8 @@ impl<S: SampleInterior> PdfHittable for Quad<S> {
             Some(hit) if self.shape().contains(hit.alpha, hit.beta) => hit,
             _ => return 0.0,
         };
-        if let Some(rectangle) = self.spherical(origin) {
-            return 1.0 / rectangle.solid_angle();
+        if let Some((_, solid_angle)) = self.spherical(origin) {
+            return 1.0 / solid_angle;
         }
         // Through the unit direction and its length: no overflow in |d|^2 for long ones.
         let (unit, length) = unit_and_length(direction);
@@ -206,8 +241,8 @@ impl<S: SampleInterior> PdfHittable for Quad<S> {
     /// should count the sample as failed rather than divide by it.
     fn sample_direction(&self, origin: DVec3, u: DVec2) -> DVec3 {
         let u = u.clamp(DVec2::ZERO, DVec2::ONE);
-        if let Some(rectangle) = self.spherical(origin) {
-            return rectangle.sample(u);
+        if let Some((polygon, solid_angle)) = self.spherical(origin) {
+            return polygon.sample(self.plane(), origin, solid_angle, u);
         }
         let at = self.shape().sample(u);
         let plane = self.plane();
@@ -229,5 +264,10 @@ impl<S: SampleInterior> SampleInterior for crate::Exact<S> {
     #[inline]
     fn is_parallelogram(&self) -> bool {
         self.0.is_parallelogram()
+    }
+
+    #[inline]
+    fn is_triangle(&self) -> bool {
+        self.0.is_triangle()
     }
 }

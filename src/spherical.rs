@@ -1,125 +1,172 @@
-//! Sampling a rectangle uniformly in the solid angle it subtends: Ureña, Fajardo and King
-//! 2013, "An Area-Preserving Parametrization for Spherical Rectangles" (the formulation of
-//! pbrt-v4's `SampleSphericalRectangle`). Area sampling weights directions by
-//! `distance^2 / cos`, which is large where a near light is seen at a slant; sampling the
-//! solid angle itself has density `1 / solid angle` everywhere on the light.
+//! Sampling rectangles and triangles uniformly in the solid angle they subtend. Area
+//! sampling weights directions by `distance^2 / cos`, which is large where a near light is
+//! seen at a slant; sampling the solid angle itself has density `1 / solid angle`
+//! everywhere on the light.
+//!
+//! - Rectangles: Ureña, Fajardo and King 2013, "An Area-Preserving Parametrization for
+//!   Spherical Rectangles" (in the formulation of pbrt-v4's `SampleSphericalRectangle`).
+//! - Triangles: Arvo 1995, "Stratified Sampling of Spherical Triangles".
+//! - Solid angles: Van Oosterom and Strackee 1983, "The Solid Angle of a Plane Triangle",
+//!   one `atan2` per triangle and no cancellation for small ones.
 
 use core::f64::consts::TAU;
 
 use glam::{DVec2, DVec3};
 
-use crate::Plane;
-use crate::math::{acos, sin_cos, sqrt, unit_and_length};
+use crate::math::{acos, atan2, sin_cos, sqrt, unit_and_length};
+use crate::{Interval, Plane, Ray};
 
 /// Solid angles (steradians) between which spherical sampling is used, as in pbrt-v4:
-/// below, `g0 + g1 + g2 + g3 - 2 pi` cancels too much for an accurate density (and area
-/// sampling is as good for a small, far light); above, the rectangle fills nearly the
-/// hemisphere and the parametrization loses accuracy.
+/// below, a light is small and far, its `distance^2 / cos` nearly constant, and area
+/// sampling as good and cheaper; above, the shape fills nearly the hemisphere and the
+/// parametrizations lose accuracy.
 const MIN_SOLID_ANGLE: f64 = 3e-4;
 const MAX_SOLID_ANGLE: f64 = 6.22;
 
-/// The spherical rectangle of a rectangular quad as seen from a point: its local frame,
-/// extents and internal angles.
-pub(crate) struct SphericalRectangle {
-    frame: [DVec3; 3],
-    x0: f64,
-    x1: f64,
-    y0: f64,
-    y1: f64,
-    z0: f64,
-    /// `z` components of the first and third edges' normals, and `2 pi - g2 - g3`.
-    b0: f64,
-    b1: f64,
-    k: f64,
-    solid_angle: f64,
+/// The shapes with a solid-angle sampler.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Polygon {
+    /// `q`, `q + u`, `q + u + v`, `q + v` with `u` perpendicular to `v`.
+    Rectangle,
+    /// `q`, `q + u`, `q + v`.
+    Triangle,
 }
 
-impl SphericalRectangle {
-    /// The rectangle `plane` (with `u` exactly perpendicular to `v`) seen from `origin`, if
-    /// its solid angle lies where spherical sampling is accurate.
-    pub(crate) fn new(plane: &Plane, origin: DVec3) -> Option<Self> {
-        let (u, v) = (plane.u(), plane.v());
-        if u.dot(v) != 0.0 {
-            return None;
-        }
-        let ((ex, exl), (ey, eyl)) = (unit_and_length(u), unit_and_length(v));
-        let mut ez = ex.cross(ey);
+impl Polygon {
+    /// The solid angle the polygon on `plane` subtends at `origin`, if it lies where
+    /// spherical sampling is used; `None` elsewhere, also for an origin in the plane or at a
+    /// corner (solid angle 0 or NaN).
+    pub(crate) fn solid_angle(self, plane: &Plane, origin: DVec3) -> Option<f64> {
         let d = plane.q() - origin;
-        let (x0, y0, mut z0) = (d.dot(ex), d.dot(ey), d.dot(ez));
-        if z0 > 0.0 {
-            z0 = -z0;
-            ez = -ez;
-        }
-        let (x1, y1) = (x0 + exl, y0 + eyl);
-        let corner = |x: f64, y: f64| DVec3::new(x, y, z0);
-        let (v00, v01, v10, v11) = (
-            corner(x0, y0),
-            corner(x0, y1),
-            corner(x1, y0),
-            corner(x1, y1),
+        let (a, b, c) = (
+            unit_and_length(d).0,
+            unit_and_length(d + plane.u()).0,
+            unit_and_length(d + plane.v()).0,
         );
-        let normal = |a: DVec3, b: DVec3| unit_and_length(a.cross(b)).0;
-        let (n0, n1, n2, n3) = (
-            normal(v00, v10),
-            normal(v10, v11),
-            normal(v11, v01),
-            normal(v01, v00),
-        );
-        let angle = |a: DVec3, b: DVec3| acos((-a).dot(b).clamp(-1.0, 1.0));
-        let (g0, g1, g2, g3) = (angle(n0, n1), angle(n1, n2), angle(n2, n3), angle(n3, n0));
-        let solid_angle = g0 + g1 + g2 + g3 - TAU;
+        let solid_angle = match self {
+            Polygon::Triangle => triangle_solid_angle(a, b, c),
+            Polygon::Rectangle => {
+                let corner = unit_and_length(d + plane.u() + plane.v()).0;
+                triangle_solid_angle(a, b, corner) + triangle_solid_angle(a, corner, c)
+            }
+        };
         (MIN_SOLID_ANGLE..=MAX_SOLID_ANGLE)
             .contains(&solid_angle)
-            .then_some(Self {
-                frame: [ex, ey, ez],
-                x0,
-                x1,
-                y0,
-                y1,
-                z0,
-                b0: n0.z,
-                b1: n2.z,
-                k: TAU - g2 - g3,
-                solid_angle,
-            })
+            .then_some(solid_angle)
     }
 
-    pub(crate) fn solid_angle(&self) -> f64 {
-        self.solid_angle
+    /// A direction from `origin` (not normalized) to a point of the polygon, uniform in
+    /// solid angle when `u` is uniform in `[0, 1]^2`; `solid_angle` is what
+    /// [`Polygon::solid_angle`] returned for the same plane and origin.
+    pub(crate) fn sample(self, plane: &Plane, origin: DVec3, solid_angle: f64, u: DVec2) -> DVec3 {
+        match self {
+            Polygon::Rectangle => sample_rectangle(plane, origin, solid_angle, u),
+            Polygon::Triangle => sample_triangle(plane, origin, solid_angle, u),
+        }
     }
+}
 
-    /// The direction (from the origin, not normalized) to the point of the rectangle at
-    /// `u`, uniform in solid angle.
-    pub(crate) fn sample(&self, u: DVec2) -> DVec3 {
-        let Self {
-            x0,
-            x1,
-            y0,
-            y1,
-            z0,
-            b0,
-            b1,
-            k,
-            ..
-        } = *self;
-        // The x coordinate: the area up to it is u.x of the whole.
-        let au = u.x * self.solid_angle + k;
-        let (sin_au, cos_au) = sin_cos(au);
-        let fu = (cos_au * b0 - b1) / sin_au;
-        let cu = (1.0 / sqrt(fu * fu + b0 * b0))
-            .copysign(fu)
-            .clamp(-1.0, 1.0);
-        let xu = (-(cu * z0) / sqrt((1.0 - cu * cu).max(0.0))).clamp(x0, x1);
-        // The y coordinate: uniform in the projected height along that column.
-        let dd = sqrt(xu * xu + z0 * z0);
-        let (h0, h1) = (y0 / sqrt(dd * dd + y0 * y0), y1 / sqrt(dd * dd + y1 * y1));
-        let hv = h0 + u.y * (h1 - h0);
-        let yv = if hv * hv < 1.0 {
-            (hv * dd / sqrt(1.0 - hv * hv)).clamp(y0, y1)
-        } else {
-            y1
-        };
-        let [ex, ey, ez] = self.frame;
-        xu * ex + yv * ey + z0 * ez
+/// The solid angle of the triangle with unit corner directions `a`, `b`, `c`:
+/// `tan(omega / 2) = |a.(b x c)| / (1 + a.b + b.c + c.a)` (Van Oosterom and Strackee). The
+/// triple product is taken of `b - a` and `c - a`, which are accurate however small the
+/// triangle; `atan2` keeps angles past a quarter sphere, where the denominator is negative.
+fn triangle_solid_angle(a: DVec3, b: DVec3, c: DVec3) -> f64 {
+    let volume = a.dot((b - a).cross(c - a)).abs();
+    2.0 * atan2(volume, 1.0 + a.dot(b) + b.dot(c) + c.dot(a))
+}
+
+/// Ureña et al.: the x coordinate splits the solid angle in the ratio `u.x`, then y is
+/// uniform in the projected height of that column. In a frame with x along `u`, y along
+/// `v` and z toward the rectangle's plane (`z0 < 0`), corners `(x0 or x1, y0 or y1, z0)`.
+fn sample_rectangle(plane: &Plane, origin: DVec3, solid_angle: f64, u: DVec2) -> DVec3 {
+    let ((ex, exl), (ey, eyl)) = (unit_and_length(plane.u()), unit_and_length(plane.v()));
+    let mut ez = ex.cross(ey);
+    let d = plane.q() - origin;
+    let (x0, y0, mut z0) = (d.dot(ex), d.dot(ey), d.dot(ez));
+    if z0 > 0.0 {
+        z0 = -z0;
+        ez = -ez;
     }
+    let (x1, y1) = (x0 + exl, y0 + eyl);
+    let corner = |x: f64, y: f64| DVec3::new(x, y, z0);
+    let normal = |a: DVec3, b: DVec3| unit_and_length(a.cross(b)).0;
+    // The normals of the planes through the origin and each edge; the rectangle's internal
+    // angles at its third and fourth corners, g2 and g3, are angles between them.
+    let (n0, n2) = (
+        normal(corner(x0, y0), corner(x1, y0)),
+        normal(corner(x1, y1), corner(x0, y1)),
+    );
+    let n3 = normal(corner(x0, y1), corner(x0, y0));
+    let angle = |a: DVec3, b: DVec3| acos((-a).dot(b).clamp(-1.0, 1.0));
+    let (b0, b1) = (n0.z, n2.z);
+    let k = TAU - angle(n2, n3) - angle(n3, n0);
+
+    let au = u.x * solid_angle + k;
+    let (sin_au, cos_au) = sin_cos(au);
+    let fu = (cos_au * b0 - b1) / sin_au;
+    let cu = (1.0 / sqrt(fu * fu + b0 * b0))
+        .copysign(fu)
+        .clamp(-1.0, 1.0);
+    let xu = (-(cu * z0) / sqrt((1.0 - cu * cu).max(0.0))).clamp(x0, x1);
+    let dd = sqrt(xu * xu + z0 * z0);
+    let (h0, h1) = (y0 / sqrt(dd * dd + y0 * y0), y1 / sqrt(dd * dd + y1 * y1));
+    let hv = h0 + u.y * (h1 - h0);
+    let yv = if hv * hv < 1.0 {
+        (hv * dd / sqrt(1.0 - hv * hv)).clamp(y0, y1)
+    } else {
+        y1
+    };
+    xu * ex + yv * ey + z0 * ez
+}
+
+/// Arvo: `u.x` picks the sub-triangle `a b c'` with `c'` on the arc from `a` to `c` whose
+/// solid angle is `u.x` of the whole, then `u.y` picks a point on the arc from `b` to `c'`,
+/// uniform in `1 - cos` of its distance from `b`. The direction found is then moved onto the
+/// triangle (clamped into it in `(alpha, beta)`), so rounding never aims it past an edge.
+fn sample_triangle(plane: &Plane, origin: DVec3, solid_angle: f64, u: DVec2) -> DVec3 {
+    let unit = |v: DVec3| unit_and_length(v).0;
+    let d = plane.q() - origin;
+    let (a, b, c) = (unit(d), unit(d + plane.u()), unit(d + plane.v()));
+    // The internal angle at a, between the great circles a-b and a-c.
+    let (n_ab, n_ac) = (unit(a.cross(b)), unit(a.cross(c)));
+    let (cos_alpha, sin_alpha) = (n_ab.dot(n_ac), n_ab.cross(n_ac).length());
+    // The sub-triangle's solid angle, less alpha, gives the angle at c' (Arvo's s, t).
+    let (sin_area, cos_area) = sin_cos(u.x * solid_angle);
+    let s = sin_area * cos_alpha - cos_area * sin_alpha;
+    let t = cos_area * cos_alpha + sin_area * sin_alpha;
+    let (p, q) = (t - cos_alpha, s + sin_alpha * a.dot(b));
+    // cos of the arc from a to c'.
+    let cos_ac = ((q * t - p * s) * cos_alpha - q) / ((q * s + p * t) * sin_alpha);
+    let cos_ac = if cos_ac.is_nan() {
+        1.0
+    } else {
+        cos_ac.clamp(-1.0, 1.0)
+    };
+    let c_arc = unit(c - c.dot(a) * a);
+    let c_end = cos_ac * a + sqrt(1.0 - cos_ac * cos_ac) * c_arc;
+    // 1 - cos of the arc from b to c', as |c' - b|^2 / 2: no cancellation for short arcs;
+    // the sampled point's 1 - cos from b is h = u.y of it, and its sine sqrt(h (2 - h)).
+    let h = u.y * 0.5 * (c_end - b).length_squared();
+    let toward = unit(c_end - c_end.dot(b) * b);
+    let direction = (1.0 - h) * b + sqrt((h * (2.0 - h)).max(0.0)) * toward;
+    onto_triangle(plane, origin, direction)
+}
+
+/// `direction` from `origin` moved to the nearest point of the triangle in `(alpha, beta)`
+/// (a point past the long edge is scaled back onto it), as a vector from `origin`.
+fn onto_triangle(plane: &Plane, origin: DVec3, direction: DVec3) -> DVec3 {
+    let Some(hit) = plane.intersect(
+        &Ray::new(origin, direction),
+        Interval::new(0.0, f64::INFINITY),
+    ) else {
+        return direction;
+    };
+    let (alpha, beta) = (hit.alpha.max(0.0), hit.beta.max(0.0));
+    let sum = alpha + beta;
+    let (alpha, beta) = if sum > 1.0 {
+        (alpha / sum, beta / sum)
+    } else {
+        (alpha, beta)
+    };
+    (plane.q() - origin) + (alpha * plane.u() + beta * plane.v())
 }

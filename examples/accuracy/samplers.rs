@@ -1,32 +1,43 @@
-//! Light sampling: area sampling against solid-angle sampling of a unit square light, seen
-//! from heights 0.01, 0.1, 1 and 10 above a point near its centre. For each, the variance
-//! per sample of the irradiance estimate (`cos / pdf`) and the time per sample (direction
-//! and density).
+//! Light sampling: area sampling against solid-angle sampling of a unit square light and
+//! of half of it (a triangle), seen from heights 0.01, 0.1, 1 and 10 above a point near its
+//! centre. For each, the variance per sample of the irradiance estimate (`cos / pdf`) and
+//! the time per sample (direction and density).
 
 use std::hint::black_box;
 use std::time::Instant;
 
 use hitkit::glam::{DVec2, DVec3};
-use hitkit::{PdfHittable, Quad, Triangle};
+use hitkit::{PdfHittable, Quad, Sampling, Triangle};
 
-/// One row: height, then (variance per sample, ns per sample) for area and solid angle.
+/// One row: shape, height, then (variance per sample, ns per sample) for area and solid
+/// angle.
 pub struct SamplerRow {
+    pub shape: &'static str,
     pub height: f64,
     pub area: (f64, f64),
     pub solid_angle: (f64, f64),
 }
 
-/// The square as one rectangle (sampled by solid angle where hitkit does so) and as two
-/// triangles (their uniform mixture is area sampling of the same square).
-fn lights() -> (Quad, Vec<Quad<Triangle>>) {
+type Light = Box<dyn PdfHittable>;
+
+/// The unit square and its lower-left half, each as sampled by default (by solid angle
+/// where hitkit does so) and by area.
+fn lights() -> [(&'static str, Light, Light); 2] {
     let q = DVec3::new(-0.5, -0.5, 0.0);
-    let rectangle = Quad::new(q, DVec3::X, DVec3::Y).expect("a unit square");
-    let halves = vec![
-        Quad::with_interior(q, DVec3::X, DVec3::Y, Triangle).expect("a half square"),
-        Quad::with_interior(q + DVec3::X + DVec3::Y, -DVec3::X, -DVec3::Y, Triangle)
-            .expect("a half square"),
-    ];
-    (rectangle, halves)
+    let square = Quad::new(q, DVec3::X, DVec3::Y).expect("a unit square");
+    let triangle = Quad::with_interior(q, DVec3::X, DVec3::Y, Triangle).expect("a half square");
+    [
+        (
+            "square",
+            Box::new(square),
+            Box::new(square.with_sampling(Sampling::Area)),
+        ),
+        (
+            "triangle",
+            Box::new(triangle),
+            Box::new(triangle.with_sampling(Sampling::Area)),
+        ),
+    ]
 }
 
 /// Variance per sample and median ns per sample (of 5 timed runs) of `n` estimates.
@@ -60,17 +71,18 @@ fn measure(light: &dyn PdfHittable, origin: DVec3, n: usize) -> (f64, f64) {
 }
 
 pub fn measure_all(quick: bool) -> Vec<SamplerRow> {
-    let (rectangle, halves) = lights();
     let n = if quick { 2_000 } else { 200_000 };
-    [0.01, 0.1, 1.0, 10.0]
-        .into_iter()
-        .map(|height| {
+    let mut rows = Vec::new();
+    for (shape, solid_angle, area) in lights() {
+        for height in [0.01, 0.1, 1.0, 10.0] {
             let origin = DVec3::new(0.1, -0.2, height);
-            SamplerRow {
+            rows.push(SamplerRow {
+                shape,
                 height,
-                area: measure(&halves, origin, n),
-                solid_angle: measure(&rectangle, origin, n),
-            }
-        })
-        .collect()
+                area: measure(area.as_ref(), origin, n),
+                solid_angle: measure(solid_angle.as_ref(), origin, n),
+            });
+        }
+    }
+    rows
 }
