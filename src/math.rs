@@ -31,12 +31,20 @@ pub(crate) fn sqrt(x: f64) -> f64 {
 /// zero vector, `(NaN, 0)`.
 #[must_use]
 pub(crate) fn unit_and_length(v: glam::DVec3) -> (glam::DVec3, f64) {
-    let largest = v.abs().max_element();
-    let exponent = ((largest.to_bits() >> 52) & 0x7ff) as i64 - 1023;
-    let scale = f64::from_bits(((1023 - exponent.clamp(-1022, 1022)) as u64) << 52);
+    let scale = power_of_two_scale(v.abs().max_element());
     let scaled = v * scale;
     let length = scaled.length();
     (scaled / length, length / scale)
+}
+
+/// The power of two that brings finite `largest >= 0` into `[1, 2)` (clamped to the normal
+/// range): multiplying by it is exact, so sums and squares of the scaled values neither
+/// overflow nor underflow.
+#[inline]
+#[must_use]
+pub(crate) fn power_of_two_scale(largest: f64) -> f64 {
+    let exponent = ((largest.to_bits() >> 52) & 0x7ff) as i64 - 1023;
+    f64::from_bits(((1023 - exponent.clamp(-1022, 1022)) as u64) << 52)
 }
 
 /// `(sin x, cos x)`.

@@ -115,10 +115,13 @@ impl<S: Interior> Hittable for Quad<S> {
             if !self.shape.widens() {
                 return None;
             }
+            // An error bound that overflows says nothing: such a point (coordinates near
+            // f64::MAX) is no hit.
             let error = self.plane.coordinate_error(ray, &hit);
-            if !self
-                .shape
-                .contains_within(hit.alpha, hit.beta, error.x, error.y)
+            if !error.is_finite()
+                || !self
+                    .shape
+                    .contains_within(hit.alpha, hit.beta, error.x, error.y)
             {
                 return None;
             }

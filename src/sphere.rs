@@ -144,20 +144,21 @@ impl Hittable for Sphere {
 
 impl PdfHittable for Sphere {
     /// From outside, `1 / (2 pi (1 - cos theta_max))` for directions inside the cone the
-    /// sphere subtends (0 elsewhere); from inside or on it, `1 / (4 pi)` (every direction).
+    /// sphere subtends (0 elsewhere, and where that overflows: a sphere so small and far
+    /// that its solid angle underflows); from inside or on it, `1 / (4 pi)` (every
+    /// direction).
     fn pdf_value(&self, origin: DVec3, direction: DVec3) -> f64 {
         match self.cone(origin) {
-            Some(one_minus_cos) => {
+            Some((_, one_minus_cos)) => {
                 // Only whether the ray meets the sphere ahead: the roots, not a hit record
                 // (whose point, error bound and uv this would compute and throw away).
                 let hits = self
                     .roots(&Ray::new(origin, direction))
                     .is_some_and(|(_, far)| far >= 0.0);
-                if hits {
-                    1.0 / (TAU * one_minus_cos)
-                } else {
-                    0.0
-                }
+                let pdf = 1.0 / (TAU * one_minus_cos);
+                // A cone so thin that `1 - cos` underflows has no finite density: 0, as for
+                // a miss (also for NaN from an invalid ray).
+                if hits && pdf < f64::INFINITY { pdf } else { 0.0 }
             }
             None => 1.0 / (4.0 * PI),
         }
@@ -167,10 +168,7 @@ impl PdfHittable for Sphere {
     /// (uniform over the sphere of directions from inside).
     fn sample_direction(&self, origin: DVec3, u: DVec2) -> DVec3 {
         let u = u.clamp(DVec2::ZERO, DVec2::ONE);
-        let (axis, one_minus_cos) = match self.cone(origin) {
-            Some(one_minus_cos) => (unit_and_length(self.center - origin).0, one_minus_cos),
-            None => (DVec3::Z, 2.0),
-        };
+        let (axis, one_minus_cos) = self.cone(origin).unwrap_or((DVec3::Z, 2.0));
         let one_minus = u.x * one_minus_cos;
         let cos = 1.0 - one_minus;
         let sin = sqrt((one_minus * (2.0 - one_minus)).max(0.0));
@@ -181,16 +179,21 @@ impl PdfHittable for Sphere {
 }
 
 impl Sphere {
-    /// `1 - cos theta_max` of the cone the sphere subtends from `origin`, or `None` when the
-    /// origin is inside or on it. Written as `s^2 / (1 + sqrt(1 - s^2))`, `s = r / distance`,
-    /// which keeps its digits for small, far spheres where `1 - sqrt(1 - s^2)` cancels.
-    fn cone(&self, origin: DVec3) -> Option<f64> {
-        let (_, distance) = unit_and_length(self.center - origin);
+    /// The axis (unit, toward the centre) and `1 - cos theta_max` of the cone the sphere
+    /// subtends from `origin`, or `None` when the origin is inside or on it (or NaN). Written
+    /// as `s^2 / (1 + sqrt(1 - s^2))`, `s = r / distance`, which keeps its digits for small,
+    /// far spheres where `1 - sqrt(1 - s^2)` cancels.
+    fn cone(&self, origin: DVec3) -> Option<(DVec3, f64)> {
+        let (mut axis, distance) = unit_and_length(self.center - origin);
+        if distance == f64::INFINITY {
+            // The difference overflows; its halves do not, and point the same way.
+            axis = unit_and_length(0.5 * self.center - 0.5 * origin).0;
+        }
         let s = self.radius / distance;
         if s.is_nan() || s >= 1.0 {
             return None;
         }
         let s2 = s * s;
-        Some(s2 / (1.0 + sqrt(1.0 - s2)))
+        Some((axis, s2 / (1.0 + sqrt(1.0 - s2))))
     }
 }

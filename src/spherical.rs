@@ -13,7 +13,7 @@ use core::f64::consts::TAU;
 
 use glam::{DVec2, DVec3};
 
-use crate::math::{acos, atan2, sin_cos, sqrt, unit_and_length};
+use crate::math::{acos, atan2, power_of_two_scale, sin_cos, sqrt, unit_and_length};
 use crate::{Interval, Plane, Ray};
 
 /// Solid angles (steradians) between which spherical sampling is used, as in pbrt-v4:
@@ -38,6 +38,16 @@ impl Polygon {
     /// corner (solid angle 0 or NaN).
     pub(crate) fn solid_angle(self, plane: &Plane, origin: DVec3) -> Option<f64> {
         let d = plane.q() - origin;
+        // The samplers multiply and square frame coordinates (the rectangle's, or the
+        // triangle's unit vectors' differences): scaled so that the largest is near 1, the
+        // distance to the plane and the edges must stay above 2^-400 for those products to
+        // remain normal numbers. Shapes past that (an edge 1e-120 of the distance, say) are
+        // area-sampled.
+        let (scale, tiny) = (frame_scale(plane, d), 2f64.powi(-400));
+        let (u, v) = (plane.u().length() * scale, plane.v().length() * scale);
+        if !((d.dot(plane.normal()) * scale).abs() >= tiny && u >= tiny && v >= tiny) {
+            return None;
+        }
         let (a, b, c) = (
             unit_and_length(d).0,
             unit_and_length(d + plane.u()).0,
@@ -66,6 +76,12 @@ impl Polygon {
     }
 }
 
+/// The power of two that brings the largest coordinate of `d = q - origin`, `u` and `v` near
+/// 1.
+fn frame_scale(plane: &Plane, d: DVec3) -> f64 {
+    power_of_two_scale((d.abs() + plane.u().abs() + plane.v().abs()).max_element())
+}
+
 /// The solid angle of the triangle with unit corner directions `a`, `b`, `c`:
 /// `tan(omega / 2) = |a.(b x c)| / (1 + a.b + b.c + c.a)` (Van Oosterom and Strackee). The
 /// triple product is taken of `b - a` and `c - a`, which are accurate however small the
@@ -79,9 +95,15 @@ fn triangle_solid_angle(a: DVec3, b: DVec3, c: DVec3) -> f64 {
 /// uniform in the projected height of that column. In a frame with x along `u`, y along
 /// `v` and z toward the rectangle's plane (`z0 < 0`), corners `(x0 or x1, y0 or y1, z0)`.
 fn sample_rectangle(plane: &Plane, origin: DVec3, solid_angle: f64, u: DVec2) -> DVec3 {
-    let ((ex, exl), (ey, eyl)) = (unit_and_length(plane.u()), unit_and_length(plane.v()));
-    let mut ez = ex.cross(ey);
+    // In units where the frame's largest coordinate is near 1 (an exact scaling).
     let d = plane.q() - origin;
+    let scale = frame_scale(plane, d);
+    let d = d * scale;
+    let ((ex, exl), (ey, eyl)) = (
+        unit_and_length(plane.u() * scale),
+        unit_and_length(plane.v() * scale),
+    );
+    let mut ez = ex.cross(ey);
     let (x0, y0, mut z0) = (d.dot(ex), d.dot(ey), d.dot(ez));
     if z0 > 0.0 {
         z0 = -z0;
@@ -116,7 +138,7 @@ fn sample_rectangle(plane: &Plane, origin: DVec3, solid_angle: f64, u: DVec2) ->
     } else {
         y1
     };
-    xu * ex + yv * ey + z0 * ez
+    (xu * ex + yv * ey + z0 * ez) / scale
 }
 
 /// Arvo: `u.x` picks the sub-triangle `a b c'` with `c'` on the arc from `a` to `c` whose

@@ -2,7 +2,10 @@
 //! panics or yields NaN.
 
 use hitkit::glam::{DVec2, DVec3};
-use hitkit::{Aabb, Disk, GeometryError, Hittable, Interval, Plane, Quad, Ray, Ring};
+use hitkit::{
+    Aabb, Disk, GeometryError, Hittable, Interval, Mixture, PdfHittable, Plane, Quad, Ray, Ring,
+    Sphere, Triangle,
+};
 use proptest::prelude::*;
 
 #[test]
@@ -169,5 +172,45 @@ proptest! {
             }
         }
         prop_assert!(DVec2::ZERO.is_finite());
+    }
+
+    /// Light sampling on any input: densities finite and non-negative, samples of finite
+    /// origins finite, for rectangles and triangles (sampled by solid angle near them),
+    /// spheres and weighted mixtures of them, from any origin and with any `u`.
+    #[test]
+    fn no_light_input_panics_and_no_density_is_nan(
+        q in any_vec3(), a in any_f64(), b in any_f64(), o in any_vec3(), d in any_vec3(),
+        ux in any_f64(), uy in any_f64(), w0 in any_f64(), w1 in any_f64(), radius in any_f64(),
+    ) {
+        let make = || {
+            let mut lights: Vec<Box<dyn PdfHittable>> = Vec::new();
+            if let Ok(rectangle) = Quad::new(q, a * DVec3::X, b * DVec3::Y) {
+                lights.push(Box::new(rectangle));
+            }
+            if let Ok(triangle) = Quad::with_interior(q, a * DVec3::X, b * DVec3::Z, Triangle) {
+                lights.push(Box::new(triangle));
+            }
+            if let Ok(sphere) = Sphere::new(q, radius) {
+                lights.push(Box::new(sphere));
+            }
+            lights
+        };
+        let mut lights = make();
+        let n = lights.len();
+        // Weights w0, w1, 1, ...: valid or not.
+        let weights: Vec<f64> = [w0, w1].into_iter().chain(core::iter::repeat(1.0)).take(n).collect();
+        if let Ok(mixture) = Mixture::new(make(), &weights) {
+            lights.push(Box::new(mixture));
+        }
+        for light in &lights {
+            let pdf = light.pdf_value(o, d);
+            prop_assert!(pdf.is_finite() && pdf >= 0.0, "pdf {}", pdf);
+            let sampled = light.sample_direction(o, DVec2::new(ux, uy));
+            if o.is_finite() {
+                prop_assert!(!sampled.is_nan(), "sample {}", sampled);
+            }
+            let pdf = light.pdf_value(o, sampled);
+            prop_assert!(pdf.is_finite() && pdf >= 0.0, "pdf {} of the sample", pdf);
+        }
     }
 }

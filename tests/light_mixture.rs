@@ -1,10 +1,13 @@
-//! A list of lights as one light: a uniform mixture whose density integrates to 1, whose
-//! samples hit one of the lights, and whose density is the mean of theirs.
+//! A list of lights as one light: a uniform or weighted mixture whose density integrates to
+//! 1, whose samples hit one of the lights, and whose density is the weighted mean of
+//! theirs; weighted by power, it estimates the light arriving with less variance.
 
 mod support;
 
 use hitkit::glam::{DVec2, DVec3};
-use hitkit::{Bvh, Disk, Hittable, Interval, PdfHittable, Quad, Ray, Sphere, Triangle};
+use hitkit::{
+    Bvh, Disk, GeometryError, Hittable, Interval, Mixture, PdfHittable, Quad, Ray, Sphere, Triangle,
+};
 use support::SplitMix;
 
 fn lights() -> Vec<Box<dyn PdfHittable>> {
@@ -28,14 +31,12 @@ fn lights() -> Vec<Box<dyn PdfHittable>> {
 
 /// Monte Carlo over uniform directions: the mean of 4 pi pdf is 1 within 5 standard
 /// errors (from the sample variance).
-#[test]
-fn the_mixture_density_integrates_to_one() {
-    let lights = lights();
-    let mut rng = SplitMix::new(1);
+fn assert_integrates_to_one(light: &dyn PdfHittable, seed: u64) {
+    let mut rng = SplitMix::new(seed);
     let n = 400_000;
     let (mut sum, mut sum2) = (0.0, 0.0);
     for _ in 0..n {
-        let x = 4.0 * std::f64::consts::PI * lights.pdf_value(DVec3::ZERO, rng.direction());
+        let x = 4.0 * std::f64::consts::PI * light.pdf_value(DVec3::ZERO, rng.direction());
         sum += x;
         sum2 += x * x;
     }
@@ -45,6 +46,11 @@ fn the_mixture_density_integrates_to_one() {
         (mean - 1.0).abs() <= 5.0 * se && se < 0.03,
         "{mean} +- {se}"
     );
+}
+
+#[test]
+fn the_mixture_density_integrates_to_one() {
+    assert_integrates_to_one(&lights(), 1);
 }
 
 #[test]
@@ -87,6 +93,148 @@ fn mixture_samples_hit_a_light_with_the_mean_density() {
     assert_eq!(none.pdf_value(DVec3::ZERO, d), 0.0);
     assert_eq!(
         none.sample_direction(DVec3::ZERO, DVec2::splat(0.5)),
+        DVec3::ZERO
+    );
+}
+
+const WEIGHTS: [f64; 4] = [4.0, 1.0, 0.0, 3.0];
+
+#[test]
+fn a_weighted_mixture_integrates_to_one_and_picks_lights_by_weight() {
+    let mixture = Mixture::new(lights(), &WEIGHTS).unwrap();
+    assert_integrates_to_one(&mixture, 3);
+    let mut rng = SplitMix::new(4);
+    let n = 8000;
+    let mut picked = [0usize; 4];
+    for _ in 0..n {
+        let d = mixture.sample_direction(DVec3::ZERO, DVec2::new(rng.next_f64(), rng.next_f64()));
+        let pdf = mixture.pdf_value(DVec3::ZERO, d);
+        let weighted: f64 = (0..4)
+            .map(|i| mixture.probability(i) * mixture.lights()[i].pdf_value(DVec3::ZERO, d))
+            .sum();
+        assert!(pdf > 0.0 && pdf.is_finite());
+        // The same products summed in the same order (a weight of 0 adds an exact 0).
+        assert_eq!(pdf, weighted);
+        let index = mixture.lights().iter().position(|l| {
+            l.hit(&Ray::new(DVec3::ZERO, d), Interval::new(0.0, f64::INFINITY))
+                .is_some()
+        });
+        picked[index.expect("a sampled direction hits a light")] += 1;
+    }
+    // Binomial counts: within 5 standard deviations sqrt(n p (1 - p)) of n p; the light of
+    // weight 0 is never picked.
+    for (i, &count) in picked.iter().enumerate() {
+        let p = WEIGHTS[i] / 8.0;
+        assert_eq!(mixture.probability(i), p);
+        let sd = (n as f64 * p * (1.0 - p)).sqrt();
+        assert!(
+            (count as f64 - n as f64 * p).abs() <= 5.0 * sd,
+            "light {i}: {count} of {n}, expected {}",
+            n as f64 * p
+        );
+    }
+    // The endpoints of u.x pick the first and the last light of non-zero weight.
+    for (x, light) in [(0.0, 0), (1.0, 3), (f64::NAN, 0)] {
+        let d = mixture.sample_direction(DVec3::ZERO, DVec2::new(x, 0.5));
+        assert!(
+            mixture.lights()[light].pdf_value(DVec3::ZERO, d) > 0.0,
+            "u.x = {x}"
+        );
+    }
+}
+
+/// A bright and a dim light of the same size on either side: the light arriving at the
+/// origin, `sum radiance cos / pdf`, estimated with the two picked by power and picked
+/// uniformly. Both are unbiased (the same mean within 5 standard errors), and the power
+/// weights, which follow the integrand, cut the variance.
+#[test]
+fn power_weights_cut_the_variance_of_unequal_lights() {
+    let quads = vec![
+        Quad::new(DVec3::new(-0.5, 1.0, -0.5), DVec3::X, DVec3::Z).unwrap(),
+        Quad::new(DVec3::new(-0.5, -1.0, -0.5), DVec3::X, DVec3::Z).unwrap(),
+    ];
+    let radiance = [20.0, 1.0];
+    let power = [radiance[0] * quads[0].area(), radiance[1] * quads[1].area()];
+    let by_power = Mixture::new(quads.clone(), &power).unwrap();
+    let uniform = Mixture::uniform(quads);
+    let estimate = |mixture: &Mixture<Quad>, seed| {
+        let mut rng = SplitMix::new(seed);
+        let n = 50_000;
+        let (mut sum, mut sum2) = (0.0, 0.0);
+        for _ in 0..n {
+            let d =
+                mixture.sample_direction(DVec3::ZERO, DVec2::new(rng.next_f64(), rng.next_f64()));
+            let pdf = mixture.pdf_value(DVec3::ZERO, d);
+            let light = usize::from(d.y < 0.0);
+            let x = radiance[light] * d.normalize().y.abs() / pdf;
+            sum += x;
+            sum2 += x * x;
+        }
+        let mean = sum / f64::from(n);
+        let variance = sum2 / f64::from(n) - mean * mean;
+        (mean, variance, (variance / f64::from(n)).sqrt())
+    };
+    let (weighted, var_w, se_w) = estimate(&by_power, 5);
+    let (even, var_u, se_u) = estimate(&uniform, 6);
+    assert!(
+        (weighted - even).abs() <= 5.0 * (se_w * se_w + se_u * se_u).sqrt(),
+        "{weighted} +- {se_w} vs {even} +- {se_u}"
+    );
+    assert!(
+        var_w < 0.5 * var_u,
+        "variance {var_w} by power, {var_u} uniform"
+    );
+}
+
+#[test]
+fn bad_weights_are_refused_and_an_empty_mixture_is_dark() {
+    let quad = || Quad::new(DVec3::Y, DVec3::X, DVec3::Z).unwrap();
+    for (weights, expected) in [
+        (
+            vec![1.0],
+            GeometryError::InvalidParameter {
+                what: "weights.len()",
+                value: 1.0,
+                domain: "lights.len()",
+            },
+        ),
+        (
+            vec![1.0, f64::NAN],
+            GeometryError::NonFinite { what: "weight" },
+        ),
+        (
+            vec![1.0, f64::INFINITY],
+            GeometryError::NonFinite { what: "weight" },
+        ),
+        (
+            vec![1.0, -1.0],
+            GeometryError::InvalidParameter {
+                what: "weight",
+                value: -1.0,
+                domain: "[0, infinity)",
+            },
+        ),
+        (
+            vec![0.0, 0.0],
+            GeometryError::InvalidParameter {
+                what: "sum of weights",
+                value: 0.0,
+                domain: "(0, infinity)",
+            },
+        ),
+    ] {
+        assert_eq!(
+            Mixture::new(vec![quad(), quad()], &weights).unwrap_err(),
+            expected
+        );
+    }
+    // Weights near f64::MAX do not overflow their sum.
+    let huge = Mixture::new(vec![quad(), quad()], &[f64::MAX, f64::MAX]).unwrap();
+    assert_eq!(huge.probability(1), 0.5);
+    let empty = Mixture::<Quad>::uniform(Vec::new());
+    assert_eq!(empty.pdf_value(DVec3::ZERO, DVec3::Y), 0.0);
+    assert_eq!(
+        empty.sample_direction(DVec3::ZERO, DVec2::splat(0.5)),
         DVec3::ZERO
     );
 }
