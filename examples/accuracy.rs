@@ -251,11 +251,13 @@ fn write_plot(rows: &[Row], dir: &std::path::Path, machine: &str) -> Result<Path
 fn print_errors(report: &ErrorReport) {
     let noise = report.reference_noise;
     println!(
-        "`cornell_scene({w})`: {w}x{w}, all cores, depth {depth}, the effects the scene calls \
-         for. Reference: {} samples per pixel with an independent seed, rendered in {:.1} s, \
-         mean luminance {:.4}. Its own noise (RMS over pixels of its standard error, from its \
-         per-pixel sample variance) is {noise:.4}; it adds to every RMS below in quadrature, and \
-         the last column takes it out: sqrt(RMS^2 - {noise:.4}^2).\n",
+        "`cornell_scene({w}, sampling)`: {w}x{w}, all cores, depth {depth}, the effects the \
+         scene calls for, its light sampled with `Sampling::Area` and with \
+         `Sampling::SolidAngle`. Reference: {} samples per pixel (area sampling) with an \
+         independent seed, rendered in {:.1} s, mean luminance {:.4}. Its own noise (RMS over \
+         pixels of its standard error, from its per-pixel sample variance) is {noise:.4}; it \
+         adds to every RMS error against it in quadrature, and the table takes it out: \
+         sqrt(RMS^2 - {noise:.4}^2).\n",
         report.reference_samples,
         report.reference_seconds,
         report.reference_mean,
@@ -263,15 +265,19 @@ fn print_errors(report: &ErrorReport) {
         depth = rendering::MAX_DEPTH,
     );
     println!(
-        "| samples per pixel | seconds | RMS error against the reference (linear luminance) | \
-         without the reference's noise |"
+        "| samples per pixel | area: seconds | area: RMS error | solid angle: seconds | solid \
+         angle: RMS error |"
     );
-    println!("|---:|---:|---:|---:|");
+    println!("|---:|---:|---:|---:|---:|");
+    let corrected = |rms: f64| (rms * rms - noise * noise).max(0.0).sqrt();
     for row in &report.rows {
-        let corrected = (row.rms * row.rms - noise * noise).max(0.0).sqrt();
         println!(
-            "| {} | {:.3} | {:.4} | {:.4} |",
-            row.samples, row.seconds, row.rms, corrected
+            "| {} | {:.3} | {:.4} | {:.3} | {:.4} |",
+            row.samples,
+            row.area.0,
+            corrected(row.area.1),
+            row.solid_angle.0,
+            corrected(row.solid_angle.1)
         );
     }
 }

@@ -158,7 +158,11 @@ impl PdfHittable for Sphere {
                 let pdf = 1.0 / (TAU * one_minus_cos);
                 // A cone so thin that `1 - cos` underflows has no finite density: 0, as for
                 // a miss (also for NaN from an invalid ray).
-                if hits && pdf < f64::INFINITY { pdf } else { 0.0 }
+                if hits && pdf < f64::INFINITY {
+                    pdf
+                } else {
+                    0.0
+                }
             }
             None => 1.0 / (4.0 * PI),
         }

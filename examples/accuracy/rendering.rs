@@ -1,11 +1,12 @@
-//! Part 2: image error against render time for the Cornell box, against a reference
-//! rendered with many more samples (and a different seed, so that its samples are
-//! independent of the images it judges).
+//! Part 2: image error against render time for the Cornell box, its light sampled by area
+//! and by solid angle, against a reference rendered with many more samples (and a different
+//! seed, so that its samples are independent of the images it judges).
 
 use std::time::Instant;
 
 use crate::common::render::{Rendered, Settings, luminance, render};
 use crate::common::scenes::cornell_scene;
+use hitkit::Sampling;
 
 /// Sample counts of the images judged.
 pub const SAMPLE_COUNTS: [usize; 5] = [1, 4, 16, 64, 256];
@@ -19,12 +20,12 @@ const REFERENCE_SEED: u64 = 2;
 const REFERENCE_SECONDS: f64 = 20.0;
 const REFERENCE_SAMPLES: (usize, usize) = (1024, 16384);
 
-/// One judged image.
+/// One sample count: for area and for solid-angle sampling of the light, the seconds the
+/// image took and the RMS over pixels of its luminance difference to the reference.
 pub struct ErrorRow {
     pub samples: usize,
-    pub seconds: f64,
-    /// RMS over pixels of the luminance difference to the reference.
-    pub rms: f64,
+    pub area: (f64, f64),
+    pub solid_angle: (f64, f64),
 }
 
 /// What part 2 measured.
@@ -40,8 +41,13 @@ pub struct ErrorReport {
 
 /// Renders the Cornell box at `width` with `samples` per pixel on every core; the image
 /// and the seconds it took.
-fn timed_render(width: usize, samples: usize, seed: u64) -> Result<(Rendered, f64), String> {
-    let scene = cornell_scene(width);
+fn timed_render(
+    width: usize,
+    samples: usize,
+    seed: u64,
+    sampling: Sampling,
+) -> Result<(Rendered, f64), String> {
+    let scene = cornell_scene(width, sampling);
     let settings = Settings {
         samples,
         max_depth: MAX_DEPTH,
@@ -81,24 +87,28 @@ fn reference_samples(samples: usize, seconds: f64, cap: usize) -> usize {
 pub fn measure(width: usize, quick: bool) -> Result<ErrorReport, String> {
     let mut images = Vec::new();
     for samples in SAMPLE_COUNTS {
-        let (image, seconds) = timed_render(width, samples, SEED)?;
-        images.push((samples, image, seconds));
+        let area = timed_render(width, samples, SEED, Sampling::Area)?;
+        let solid_angle = timed_render(width, samples, SEED, Sampling::SolidAngle)?;
+        images.push((samples, area, solid_angle));
     }
     let (last_samples, last_seconds) = images
         .last()
-        .map_or((1, 1.0), |(samples, _, seconds)| (*samples, *seconds));
+        .map_or((1, 1.0), |(samples, (_, seconds), _)| (*samples, *seconds));
     let cap = if quick { 512 } else { usize::MAX };
     let reference_samples = reference_samples(last_samples, last_seconds, cap);
-    let (reference, reference_seconds) = timed_render(width, reference_samples, REFERENCE_SEED)?;
+    let (reference, reference_seconds) =
+        timed_render(width, reference_samples, REFERENCE_SEED, Sampling::Area)?;
     let n = reference.pixels.len().max(1) as f64;
     let reference_noise = (reference.variance.iter().sum::<f64>() / n).sqrt();
     let reference_mean = reference.mean_luminance().0;
+    let judge =
+        |(image, seconds): (Rendered, f64)| (seconds, rms_luminance_error(&image, &reference));
     let rows = images
         .into_iter()
-        .map(|(samples, image, seconds)| ErrorRow {
+        .map(|(samples, area, solid_angle)| ErrorRow {
             samples,
-            seconds,
-            rms: rms_luminance_error(&image, &reference),
+            area: judge(area),
+            solid_angle: judge(solid_angle),
         })
         .collect();
     Ok(ErrorReport {

@@ -116,8 +116,11 @@ pub fn shapes_scene(width: usize) -> Scene<Vec<Box<dyn hitkit::Hittable>>> {
 }
 
 /// The Cornell box of "Ray Tracing: The Rest of Your Life": walls and light as quads, two
-/// boxes of six quads each, rotated and translated; the light is sampled.
-pub fn cornell_scene(width: usize) -> Scene<Vec<Box<dyn hitkit::Hittable>>> {
+/// boxes of six quads each, rotated and translated; the light is sampled by `sampling`.
+pub fn cornell_scene(
+    width: usize,
+    sampling: hitkit::Sampling,
+) -> Scene<Vec<Box<dyn hitkit::Hittable>>> {
     use hitkit::glam::DQuat;
     use hitkit::{Cuboid, Hittable, PdfHittable, Transformed};
     let (red, white, green, light) = (MaterialId(0), MaterialId(1), MaterialId(2), MaterialId(3));
@@ -184,7 +187,7 @@ pub fn cornell_scene(width: usize) -> Scene<Vec<Box<dyn hitkit::Hittable>>> {
         Box::new(cuboid([165.0, 330.0, 165.0], 15.0, [265.0, 0.0, 295.0])),
         Box::new(cuboid([165.0, 165.0, 165.0], -18.0, [130.0, 0.0, 65.0])),
     ];
-    let lights: Vec<Box<dyn PdfHittable>> = vec![Box::new(lamp)];
+    let lights: Vec<Box<dyn PdfHittable>> = vec![Box::new(lamp.with_sampling(sampling))];
     Scene {
         world,
         materials,
