@@ -13,7 +13,7 @@ use core::f64::consts::TAU;
 
 use glam::{DVec2, DVec3};
 
-use crate::math::{acos, atan2, power_of_two_scale, sin_cos, sqrt, unit_and_length};
+use crate::math::{acos, atan2, power_of_two_scale, sin_cos, sqrt};
 use crate::{Interval, Plane, Ray};
 
 /// Solid angles (steradians) between which spherical sampling is used, as in pbrt-v4:
@@ -37,29 +37,23 @@ impl Polygon {
     /// spherical sampling is used; `None` elsewhere, also for an origin in the plane or at a
     /// corner (solid angle 0 or NaN).
     pub(crate) fn solid_angle(self, plane: &Plane, origin: DVec3) -> Option<f64> {
-        let d = plane.q() - origin;
-        // The samplers multiply and square frame coordinates (the rectangle's, or the
-        // triangle's unit vectors' differences): scaled so that the largest is near 1, the
-        // distance to the plane and the edges must stay above 2^-400 for those products to
-        // remain normal numbers. Shapes past that (an edge 1e-120 of the distance, say) are
-        // area-sampled.
-        let (scale, tiny) = (frame_scale(plane, d), 2f64.powi(-400));
-        let (u, v) = (plane.u().length() * scale, plane.v().length() * scale);
-        if !((d.dot(plane.normal()) * scale).abs() >= tiny && u >= tiny && v >= tiny) {
-            return None;
-        }
-        let (a, b, c) = (
-            unit_and_length(d).0,
-            unit_and_length(d + plane.u()).0,
-            unit_and_length(d + plane.v()).0,
-        );
-        let solid_angle = match self {
-            Polygon::Triangle => triangle_solid_angle(a, b, c),
+        let ([d, u, v], _) = scaled_frame(plane, origin)?;
+        let (a, b, c) = (d.normalize(), (d + u).normalize(), (d + v).normalize());
+        let half = match self {
+            Polygon::Triangle => half_solid_angle(a, b, c),
             Polygon::Rectangle => {
-                let corner = unit_and_length(d + plane.u() + plane.v()).0;
-                triangle_solid_angle(a, b, corner) + triangle_solid_angle(a, corner, c)
+                // The two triangles' half angles added as the arguments of complex numbers
+                // multiply: one atan2 instead of two. Their sum is below pi (the rectangle's
+                // solid angle below 2 pi), where atan2 returns it unchanged.
+                let corner = (d + u + v).normalize();
+                let (p, q) = (
+                    half_solid_angle(a, b, corner),
+                    half_solid_angle(a, corner, c),
+                );
+                DVec2::new(p.x * q.x - p.y * q.y, p.x * q.y + p.y * q.x)
             }
         };
+        let solid_angle = 2.0 * atan2(half.y, half.x);
         (MIN_SOLID_ANGLE..=MAX_SOLID_ANGLE)
             .contains(&solid_angle)
             .then_some(solid_angle)
@@ -76,33 +70,42 @@ impl Polygon {
     }
 }
 
-/// The power of two that brings the largest coordinate of `d = q - origin`, `u` and `v` near
-/// 1.
-fn frame_scale(plane: &Plane, d: DVec3) -> f64 {
-    power_of_two_scale((d.abs() + plane.u().abs() + plane.v().abs()).max_element())
+/// `q - origin`, `u` and `v`, scaled exactly (by a power of two) so that the largest
+/// coordinate is near 1, or `None` where the samplers would lose their digits. They
+/// normalize cross products of these coordinates (and of unit vectors built from them):
+/// squares of products of two, which stay normal numbers when the distance to the plane and
+/// the edges are at least 2^-240 of the largest coordinate. Shapes past that (an edge 1e-80
+/// of the distance, say) are area-sampled. Every vector built from the three can then be
+/// normalized directly.
+fn scaled_frame(plane: &Plane, origin: DVec3) -> Option<([DVec3; 3], f64)> {
+    let d = plane.q() - origin;
+    let scale = power_of_two_scale((d.abs() + plane.u().abs() + plane.v().abs()).max_element());
+    let [d, u, v] = [d * scale, plane.u() * scale, plane.v() * scale];
+    let tiny = 2f64.powi(-240);
+    let height = d.dot(plane.normal()).abs();
+    (height >= tiny && u.length_squared() >= tiny * tiny && v.length_squared() >= tiny * tiny)
+        .then_some(([d, u, v], scale))
 }
 
-/// The solid angle of the triangle with unit corner directions `a`, `b`, `c`:
-/// `tan(omega / 2) = |a.(b x c)| / (1 + a.b + b.c + c.a)` (Van Oosterom and Strackee). The
-/// triple product is taken of `b - a` and `c - a`, which are accurate however small the
-/// triangle; `atan2` keeps angles past a quarter sphere, where the denominator is negative.
-fn triangle_solid_angle(a: DVec3, b: DVec3, c: DVec3) -> f64 {
+/// Half the solid angle of the triangle with unit corner directions `a`, `b`, `c`, as the
+/// argument of `(x, y)`: `tan(omega / 2) = |a.(b x c)| / (1 + a.b + b.c + c.a)` (Van Oosterom
+/// and Strackee). The triple product is taken of `b - a` and `c - a`, which are accurate
+/// however small the triangle; `atan2(y, x)` keeps angles past a quarter sphere, where the
+/// denominator is negative.
+fn half_solid_angle(a: DVec3, b: DVec3, c: DVec3) -> DVec2 {
     let volume = a.dot((b - a).cross(c - a)).abs();
-    2.0 * atan2(volume, 1.0 + a.dot(b) + b.dot(c) + c.dot(a))
+    DVec2::new(1.0 + a.dot(b) + b.dot(c) + c.dot(a), volume)
 }
 
 /// Ureña et al.: the x coordinate splits the solid angle in the ratio `u.x`, then y is
 /// uniform in the projected height of that column. In a frame with x along `u`, y along
 /// `v` and z toward the rectangle's plane (`z0 < 0`), corners `(x0 or x1, y0 or y1, z0)`.
 fn sample_rectangle(plane: &Plane, origin: DVec3, solid_angle: f64, u: DVec2) -> DVec3 {
-    // In units where the frame's largest coordinate is near 1 (an exact scaling).
-    let d = plane.q() - origin;
-    let scale = frame_scale(plane, d);
-    let d = d * scale;
-    let ((ex, exl), (ey, eyl)) = (
-        unit_and_length(plane.u() * scale),
-        unit_and_length(plane.v() * scale),
-    );
+    let Some(([d, edge_u, edge_v], scale)) = scaled_frame(plane, origin) else {
+        return plane.q() - origin;
+    };
+    let (exl, eyl) = (edge_u.length(), edge_v.length());
+    let (ex, ey) = (edge_u / exl, edge_v / eyl);
     let mut ez = ex.cross(ey);
     let (x0, y0, mut z0) = (d.dot(ex), d.dot(ey), d.dot(ez));
     if z0 > 0.0 {
@@ -111,7 +114,7 @@ fn sample_rectangle(plane: &Plane, origin: DVec3, solid_angle: f64, u: DVec2) ->
     }
     let (x1, y1) = (x0 + exl, y0 + eyl);
     let corner = |x: f64, y: f64| DVec3::new(x, y, z0);
-    let normal = |a: DVec3, b: DVec3| unit_and_length(a.cross(b)).0;
+    let normal = |a: DVec3, b: DVec3| a.cross(b).normalize();
     // The normals of the planes through the origin and each edge; the rectangle's internal
     // angles at its third and fourth corners, g2 and g3, are angles between them.
     let (n0, n2) = (
@@ -138,6 +141,7 @@ fn sample_rectangle(plane: &Plane, origin: DVec3, solid_angle: f64, u: DVec2) ->
     } else {
         y1
     };
+    // Back from the scaled frame (exactly): the point's offset from `origin`.
     (xu * ex + yv * ey + z0 * ez) / scale
 }
 
@@ -146,9 +150,11 @@ fn sample_rectangle(plane: &Plane, origin: DVec3, solid_angle: f64, u: DVec2) ->
 /// uniform in `1 - cos` of its distance from `b`. The direction found is then moved onto the
 /// triangle (clamped into it in `(alpha, beta)`), so rounding never aims it past an edge.
 fn sample_triangle(plane: &Plane, origin: DVec3, solid_angle: f64, u: DVec2) -> DVec3 {
-    let unit = |v: DVec3| unit_and_length(v).0;
-    let d = plane.q() - origin;
-    let (a, b, c) = (unit(d), unit(d + plane.u()), unit(d + plane.v()));
+    let Some(([d, u_edge, v_edge], _)) = scaled_frame(plane, origin) else {
+        return plane.q() - origin;
+    };
+    let unit = DVec3::normalize;
+    let (a, b, c) = (unit(d), unit(d + u_edge), unit(d + v_edge));
     // The internal angle at a, between the great circles a-b and a-c.
     let (n_ab, n_ac) = (unit(a.cross(b)), unit(a.cross(c)));
     let (cos_alpha, sin_alpha) = (n_ab.dot(n_ac), n_ab.cross(n_ac).length());
