@@ -81,7 +81,7 @@ fn scaled_frame(plane: &Plane, origin: DVec3) -> Option<([DVec3; 3], f64)> {
     let d = plane.q() - origin;
     let scale = power_of_two_scale((d.abs() + plane.u().abs() + plane.v().abs()).max_element());
     let [d, u, v] = [d * scale, plane.u() * scale, plane.v() * scale];
-    let tiny = 2f64.powi(-240);
+    let tiny = f64::from_bits((1023 - 240) << 52); // 2^-240
     let height = d.dot(plane.normal()).abs();
     (height >= tiny && u.length_squared() >= tiny * tiny && v.length_squared() >= tiny * tiny)
         .then_some(([d, u, v], scale))
