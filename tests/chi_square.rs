@@ -582,28 +582,10 @@ fn spheres() -> Vec<Case> {
     ]
 }
 
-/// The lights of tests/light_mixture.rs (a square, sampled by solid angle from both origins
+/// `support::four_lights` (a square, sampled by solid angle from both origins
 /// here, a disk, a triangle and a sphere) as one light, from among them and from outside.
 fn mixtures() -> Vec<Case> {
-    let lights = || -> Vec<Box<dyn PdfHittable>> {
-        vec![
-            Box::new(Quad::new(DVec3::new(-1.0, 2.0, -1.0), DVec3::X, DVec3::Z).unwrap()),
-            Box::new(
-                Quad::with_interior(
-                    DVec3::new(1.5, 1.0, 0.0),
-                    DVec3::Y * 0.5,
-                    DVec3::Z * 0.5,
-                    Disk,
-                )
-                .unwrap(),
-            ),
-            Box::new(
-                Quad::with_interior(DVec3::new(0.0, -2.0, 1.0), DVec3::X, DVec3::Z, Triangle)
-                    .unwrap(),
-            ),
-            Box::new(Sphere::new(DVec3::new(-2.0, 0.0, 0.0), 0.5).unwrap()),
-        ]
-    };
+    let lights = support::four_lights;
     let square = Quad::new(DVec3::new(-1.0, 2.0, -1.0), DVec3::X, DVec3::Z).unwrap();
     let (among, outside) = (DVec3::new(0.2, 0.3, -0.1), DVec3::new(4.0, 3.0, 5.0));
     for origin in [among, outside] {

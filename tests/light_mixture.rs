@@ -5,28 +5,11 @@
 mod support;
 
 use hitkit::glam::{DVec2, DVec3};
-use hitkit::{
-    Bvh, Disk, GeometryError, Hittable, Interval, Mixture, PdfHittable, Quad, Ray, Sphere, Triangle,
-};
+use hitkit::{Bvh, GeometryError, Hittable, Interval, Mixture, PdfHittable, Quad, Ray};
 use support::SplitMix;
 
 fn lights() -> Vec<Box<dyn PdfHittable>> {
-    vec![
-        Box::new(Quad::new(DVec3::new(-1.0, 2.0, -1.0), DVec3::X, DVec3::Z).unwrap()),
-        Box::new(
-            Quad::with_interior(
-                DVec3::new(1.5, 1.0, 0.0),
-                DVec3::Y * 0.5,
-                DVec3::Z * 0.5,
-                Disk,
-            )
-            .unwrap(),
-        ),
-        Box::new(
-            Quad::with_interior(DVec3::new(0.0, -2.0, 1.0), DVec3::X, DVec3::Z, Triangle).unwrap(),
-        ),
-        Box::new(Sphere::new(DVec3::new(-2.0, 0.0, 0.0), 0.5).unwrap()),
-    ]
+    support::four_lights()
 }
 
 /// Monte Carlo over uniform directions: the mean of 4 pi pdf is 1 within 5 standard

@@ -1,5 +1,5 @@
-//! What several test files share: the rounding bound and a fixed random stream (the one
-//! the benches use).
+//! What several test files share: the rounding bound, a fixed random stream (the one the
+//! benches use), and a set of lights.
 #![allow(dead_code)]
 
 #[path = "../../benches/peers/src/scene.rs"]
@@ -12,4 +12,18 @@ pub use scene::SplitMix;
 pub fn gamma(k: u32) -> f64 {
     let nu = f64::from(k) * f64::EPSILON * 0.5;
     nu / (1.0 - nu)
+}
+
+/// Four lights of every kind, around the origin: a unit square 2 above it (sampled by solid
+/// angle from nearby), a disk to one side, a triangle below and a sphere to the other side.
+pub fn four_lights() -> Vec<Box<dyn hitkit::PdfHittable>> {
+    use hitkit::glam::DVec3;
+    use hitkit::{Disk, Quad, Sphere, Triangle};
+    let (x, y, z) = (DVec3::X, DVec3::Y, DVec3::Z);
+    vec![
+        Box::new(Quad::new(DVec3::new(-1.0, 2.0, -1.0), x, z).unwrap()),
+        Box::new(Quad::with_interior(DVec3::new(1.5, 1.0, 0.0), 0.5 * y, 0.5 * z, Disk).unwrap()),
+        Box::new(Quad::with_interior(DVec3::new(0.0, -2.0, 1.0), x, z, Triangle).unwrap()),
+        Box::new(Sphere::new(DVec3::new(-2.0, 0.0, 0.0), 0.5).unwrap()),
+    ]
 }
