@@ -6,7 +6,7 @@ use core::f64::consts::{PI, TAU};
 use glam::{DVec2, DVec3};
 
 use crate::math::{sin_cos, sqrt, unit_and_length};
-use crate::spherical::Polygon;
+use crate::spherical::{Polygon, View};
 use crate::{Disk, Interior, Interval, Parallelogram, PdfHittable, Quad, Ray, Ring, Triangle};
 
 /// An [`Interior`] that knows its area and draws uniform points from it, both in
@@ -161,10 +161,10 @@ impl<S: SampleInterior> Quad<S> {
 }
 
 impl<S: SampleInterior> Quad<S> {
-    /// The polygon this quad is sampled as by solid angle from `origin`, and its solid
-    /// angle there: only where [`Sampling::SolidAngle`] says so.
+    /// The polygon this quad is sampled as by solid angle, seen from `origin`: only where
+    /// [`Sampling::SolidAngle`] says so.
     #[inline]
-    fn spherical(&self, origin: DVec3) -> Option<(Polygon, f64)> {
+    fn spherical(&self, origin: DVec3) -> Option<View> {
         let polygon = match self.sampling() {
             Sampling::Area => return None,
             Sampling::SolidAngle if self.shape().is_parallelogram() => {
@@ -174,7 +174,7 @@ impl<S: SampleInterior> Quad<S> {
             Sampling::SolidAngle if self.shape().is_triangle() => Polygon::Triangle,
             Sampling::SolidAngle => return None,
         };
-        Some((polygon, polygon.solid_angle(self.plane(), origin)?))
+        polygon.view(self.plane(), origin)
     }
 }
 
@@ -220,8 +220,8 @@ impl<S: SampleInterior> PdfHittable for Quad<S> {
             Some(hit) if self.shape().contains(hit.alpha, hit.beta) => hit,
             _ => return 0.0,
         };
-        if let Some((_, solid_angle)) = self.spherical(origin) {
-            return 1.0 / solid_angle;
+        if let Some(view) = self.spherical(origin) {
+            return 1.0 / view.solid_angle();
         }
         // Through the unit direction and its length: no overflow in |d|^2 for long ones.
         let (unit, length) = unit_and_length(direction);
@@ -241,8 +241,8 @@ impl<S: SampleInterior> PdfHittable for Quad<S> {
     /// should count the sample as failed rather than divide by it.
     fn sample_direction(&self, origin: DVec3, u: DVec2) -> DVec3 {
         let u = u.clamp(DVec2::ZERO, DVec2::ONE);
-        if let Some((polygon, solid_angle)) = self.spherical(origin) {
-            return polygon.sample(self.plane(), origin, solid_angle, u);
+        if let Some(view) = self.spherical(origin) {
+            return view.sample(self.plane(), origin, u);
         }
         let at = self.shape().sample(u);
         let plane = self.plane();
