@@ -150,30 +150,61 @@ impl Aabb {
     #[inline]
     #[must_use]
     pub fn hit(&self, ray: &Ray, ray_t: Interval) -> bool {
+        self.ray_span(ray, ray_t).is_some()
+    }
+
+    /// The part of `ray_t` during which the ray can be in the box, by the same conservative
+    /// test as [`Aabb::hit`]; `None` where that test misses.
+    ///
+    /// Shapes report every hit at a `t` inside their own box's span (moving a `t` that
+    /// rounding put outside onto its end): so a [`Bvh`](crate::Bvh), which tests boxes
+    /// that contain the shapes' boxes, reaches every hit that a loop over the shapes finds.
+    ///
+    /// ```
+    /// use hitkit::{glam::DVec3, Aabb, Interval, Ray};
+    /// let cube = Aabb::new(DVec3::ZERO, DVec3::ONE);
+    /// let ray = Ray::new(DVec3::new(0.5, 0.5, -1.0), DVec3::Z);
+    /// let span = cube.ray_span(&ray, Interval::new(0.0, f64::INFINITY)).unwrap();
+    /// assert!(span.min <= 1.0 && span.min > 0.99 && span.max >= 2.0 && span.max < 2.01);
+    /// ```
+    #[inline]
+    #[must_use]
+    pub fn ray_span(&self, ray: &Ray, ray_t: Interval) -> Option<Interval> {
         let lanes = |v: DVec3| [[v.x], [v.y], [v.z]];
-        ray.is_valid()
-            && slab_entries(lanes(self.min), lanes(self.max), &BoxRay::new(ray), ray_t)[0]
-                < f64::INFINITY
+        if !ray.is_valid() {
+            return None;
+        }
+        let ([t0], [t1]) = slab_spans(lanes(self.min), lanes(self.max), &BoxRay::new(ray), ray_t);
+        (t0 < f64::INFINITY).then_some(Interval::new(t0, t1))
+    }
+
+    /// `t` moved into the box's [span](Aabb::ray_span) along the ray, or `None` when the
+    /// ray misses the box: how shapes keep their hits consistent with their boxes.
+    #[inline]
+    pub(crate) fn clamp_hit(&self, ray: &Ray, ray_t: Interval, t: f64) -> Option<f64> {
+        let span = self.ray_span(ray, ray_t)?;
+        Some(t.clamp(span.min, span.max.max(span.min)))
     }
 }
 
 /// The slab test (pbrt-v4 `Bounds3::IntersectP`) of `N` boxes at once, given per axis as
 /// `min[axis][box]`, `max[axis][box]`, against a ray whose reciprocal direction and signs
-/// were computed once: for each box, the distance at which the ray enters it within
-/// `ray_t` (clamped to `ray_t.min`), or `+inf` if it does not. The one box test of the
-/// crate: `Aabb::hit` runs it on one box, the BVH on two siblings (the lanes vectorize).
+/// were computed once: for each box, the distances at which the ray enters it within
+/// `ray_t` (clamped to `ray_t.min`; `+inf` if it does not) and leaves it (the far distance
+/// padded for rounding, clamped to `ray_t.max`). The one box test of the crate: `Aabb::hit`
+/// runs it on one box, the BVH on two siblings (the lanes vectorize).
 ///
 /// `0 * inf` (origin in a slab plane, direction 0) gives NaN, and the comparisons are written
 /// so that a NaN distance constrains nothing: the ray lies in the face, which belongs to the
 /// closed box. Testing the near bound by the direction's sign (not by `min`/`max` of the two
 /// distances) makes an empty box (`min > max`) a miss.
 #[inline(always)]
-pub(crate) fn slab_entries<const N: usize>(
+pub(crate) fn slab_spans<const N: usize>(
     min: [[f64; N]; 3],
     max: [[f64; N]; 3],
     ray: &BoxRay,
     ray_t: Interval,
-) -> [f64; N] {
+) -> ([f64; N], [f64; N]) {
     // A box met only "at infinity" (a ray parallel to a slab and outside it gives an
     // infinite near distance) is not hit: clamping the range to finite numbers makes such
     // a box fail `t0 <= t1` (NaN ends stay NaN, and hit nothing).
@@ -213,7 +244,8 @@ pub(crate) fn slab_entries<const N: usize>(
             }
         }
     }
-    core::array::from_fn(|k| if t0[k] <= t1[k] { t0[k] } else { f64::INFINITY })
+    let entries = core::array::from_fn(|k| if t0[k] <= t1[k] { t0[k] } else { f64::INFINITY });
+    (entries, t1)
 }
 
 impl Default for Aabb {

@@ -3,7 +3,7 @@
 use glam::{DVec2, DVec3};
 
 use crate::math::{gamma, sqrt};
-use crate::{Aabb, GeometryError, Hittable, Plane};
+use crate::{Aabb, CrossingRegion, GeometryError, Hittable, Plane};
 
 /// The region of a plane that a [`Quad`](crate::Quad) covers, in `(alpha, beta)` space.
 ///
@@ -40,29 +40,41 @@ pub trait Interior: Send + Sync {
         plane.bounding_box()
     }
 
-    /// Whether the shape accepts points near its edges that [`Interior::contains`]
-    /// rejected, within the rounding error of their coordinates (see
-    /// [`Interior::contains_within`]). Default: no.
+    /// How the shape lies against the region where a ray's exact crossing with the plane
+    /// can be ([`CrossingRegion`]): wholly inside it, near it (some point of the segment
+    /// `region.at(s)`, `|s| <= region.reach`, lies within `region.radius` of the shape), or
+    /// clear of it. This is what makes edges watertight without false hits: see
+    /// [`Quad`](crate::Quad).
+    ///
+    /// Default: [`Meets::Inside`] when the region's centre (the computed crossing) is
+    /// [contained](Interior::contains), else [`Meets::Outside`]: no widening, so a ray
+    /// through an edge shared with another shape may slip between them, but a point is
+    /// only accepted where the predicate accepts it.
     #[inline]
-    fn widens(&self) -> bool {
-        false
-    }
-
-    /// Whether `(alpha, beta)` lies within `err_alpha` and `err_beta` of the shape: the
-    /// exact intersection could be inside it. Called (when [`Interior::widens`]) for
-    /// points that `contains` rejected, with the bounds of
-    /// [`Plane::coordinate_error`], so that rays through an edge shared by two shapes
-    /// hit one of them. Default: `contains(alpha, beta)`.
-    #[inline]
-    fn contains_within(&self, alpha: f64, beta: f64, err_alpha: f64, err_beta: f64) -> bool {
-        let _ = (err_alpha, err_beta);
-        self.contains(alpha, beta)
+    fn meets(&self, region: &CrossingRegion) -> Meets {
+        if self.contains(region.center.x, region.center.y) {
+            Meets::Inside
+        } else {
+            Meets::Outside
+        }
     }
 }
 
-/// A shape tested exactly, without the rounding-error widening of its edges: a little
-/// faster where rays often hit planes outside their shapes, but a ray through an edge shared
-/// by two shapes may then slip between them. See the README's accuracy table.
+/// How a shape lies against a [`CrossingRegion`] ([`Interior::meets`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Meets {
+    /// The whole region is in the shape: the ray crosses the plane inside it.
+    Inside,
+    /// The point `region.at(s)` is within `region.radius` of the shape, but the region is
+    /// not wholly inside: rounding cannot tell whether the ray crosses inside or beside.
+    Near(f64),
+    /// No point of the region is within its radius of the shape.
+    Outside,
+}
+
+/// A shape tested exactly at the computed crossing, without widening its edges: a little
+/// faster where rays often hit planes outside their shapes, but a ray through an edge
+/// shared by two shapes may then slip between them. See the README's accuracy table.
 ///
 /// ```
 /// use hitkit::{glam::DVec3, Exact, Parallelogram, Quad};
@@ -94,6 +106,60 @@ impl<F: Fn(f64, f64) -> bool + Send + Sync> Interior for F {
     }
 }
 
+/// The values of `s` in `[-reach, reach]` for which the coordinate `c + s w` lies in
+/// `[lo, hi]`, intersected with `span`. A constraint that no `s` meets empties the span.
+#[inline]
+fn narrow(span: &mut (f64, f64), c: f64, w: f64, lo: f64, hi: f64) {
+    if w == 0.0 {
+        if !(lo <= c && c <= hi) {
+            *span = (f64::INFINITY, f64::NEG_INFINITY);
+        }
+        return;
+    }
+    let (a, b) = ((lo - c) / w, (hi - c) / w);
+    let (a, b) = if w > 0.0 { (a, b) } else { (b, a) };
+    span.0 = span.0.max(a);
+    span.1 = span.1.min(b);
+}
+
+/// The `s` of `span` nearest 0 (the computed crossing), if the span is not empty.
+#[inline]
+fn nearest(span: (f64, f64)) -> Option<f64> {
+    (span.0 <= span.1).then(|| 0.0f64.clamp(span.0, span.1))
+}
+
+/// The region's radius grown by the rounding of evaluating `center + s along` anywhere on
+/// it (`gamma(2)` of the magnitudes), so that the tests below, which compare such values,
+/// stay conservative.
+#[inline]
+fn evaluated_radius(region: &CrossingRegion) -> DVec2 {
+    region.radius + gamma(3) * (region.center.abs() + region.half_length())
+}
+
+/// How a region lies against the convex polygon `{ x : lo_i <= k_i . x <= hi_i }` (each
+/// `k_i` a row of small integers, so `k_i . radius` is the constraint's widening): the
+/// parallelogram and the triangle.
+#[inline]
+fn meets_polygon(region: &CrossingRegion, rows: &[([f64; 2], f64, f64)]) -> Meets {
+    let r = evaluated_radius(region);
+    let half = region.half_length();
+    let mut span = (-region.reach, region.reach);
+    let mut inside = true;
+    for &([ka, kb], lo, hi) in rows {
+        let widen = ka.abs() * r.x + kb.abs() * r.y;
+        let c = ka * region.center.x + kb * region.center.y;
+        let w = ka * region.along.x + kb * region.along.y;
+        narrow(&mut span, c, w, lo - widen, hi + widen);
+        let extent = ka.abs() * half.x + kb.abs() * half.y + widen;
+        inside &= lo <= c - extent && c + extent <= hi;
+    }
+    match nearest(span) {
+        None => Meets::Outside,
+        Some(_) if inside => Meets::Inside,
+        Some(s) => Meets::Near(s),
+    }
+}
+
 /// The parallelogram `0 <= alpha <= 1, 0 <= beta <= 1` with corners `q`, `q + u`,
 /// `q + v`, `q + u + v`. `uv = (alpha, beta)`.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -106,14 +172,8 @@ impl Interior for Parallelogram {
     }
 
     #[inline]
-    fn widens(&self) -> bool {
-        true
-    }
-
-    #[inline]
-    fn contains_within(&self, alpha: f64, beta: f64, err_alpha: f64, err_beta: f64) -> bool {
-        (-err_alpha..=1.0 + err_alpha).contains(&alpha)
-            && (-err_beta..=1.0 + err_beta).contains(&beta)
+    fn meets(&self, region: &CrossingRegion) -> Meets {
+        meets_polygon(region, &[([1.0, 0.0], 0.0, 1.0), ([0.0, 1.0], 0.0, 1.0)])
     }
 
     fn bounding_box(&self, plane: &Plane) -> Aabb {
@@ -133,16 +193,20 @@ impl Interior for Triangle {
         alpha >= 0.0 && beta >= 0.0 && alpha + beta <= 1.0
     }
 
+    /// The triangle widened by the region's radius: the Minkowski sum of the triangle and
+    /// a box is bounded by the triangle's three edges moved out and by `alpha <= 1`,
+    /// `beta <= 1` moved out (which cut its corners, so a sliver widens by the radius and
+    /// not by the radius over the sine of its angle).
     #[inline]
-    fn widens(&self) -> bool {
-        true
-    }
-
-    /// The sum's own rounding (`u_r |alpha + beta|`) is added to the slack.
-    #[inline]
-    fn contains_within(&self, alpha: f64, beta: f64, err_alpha: f64, err_beta: f64) -> bool {
-        let slack = err_alpha + err_beta + gamma(2) * (alpha.abs() + beta.abs());
-        alpha >= -err_alpha && beta >= -err_beta && alpha + beta <= 1.0 + slack
+    fn meets(&self, region: &CrossingRegion) -> Meets {
+        meets_polygon(
+            region,
+            &[
+                ([1.0, 0.0], 0.0, 1.0),
+                ([0.0, 1.0], 0.0, 1.0),
+                ([1.0, 1.0], f64::NEG_INFINITY, 1.0),
+            ],
+        )
     }
 
     fn bounding_box(&self, plane: &Plane) -> Aabb {
@@ -166,13 +230,8 @@ impl Interior for Disk {
     }
 
     #[inline]
-    fn widens(&self) -> bool {
-        true
-    }
-
-    #[inline]
-    fn contains_within(&self, alpha: f64, beta: f64, err_alpha: f64, err_beta: f64) -> bool {
-        nearest_r2(alpha, beta, err_alpha, err_beta) <= 1.0 + gamma(3)
+    fn meets(&self, region: &CrossingRegion) -> Meets {
+        meets_annulus(region, 0.0)
     }
 
     #[inline]
@@ -231,16 +290,8 @@ impl Interior for Ring {
     }
 
     #[inline]
-    fn widens(&self) -> bool {
-        true
-    }
-
-    #[inline]
-    fn contains_within(&self, alpha: f64, beta: f64, err_alpha: f64, err_beta: f64) -> bool {
-        let (a, b) = (alpha.abs() + err_alpha, beta.abs() + err_beta);
-        let farthest_r2 = a * a + b * b;
-        nearest_r2(alpha, beta, err_alpha, err_beta) <= 1.0 + gamma(3)
-            && farthest_r2 >= self.inner * self.inner * (1.0 - gamma(3))
+    fn meets(&self, region: &CrossingRegion) -> Meets {
+        meets_annulus(region, self.inner)
     }
 
     #[inline]
@@ -253,15 +304,62 @@ impl Interior for Ring {
     }
 }
 
-/// The smallest `alpha^2 + beta^2` within the errors of the point: each coordinate moved
-/// toward 0 by its error (and no further). `gamma(3)` of slack covers the squares and sum.
-#[inline]
-fn nearest_r2(alpha: f64, beta: f64, err_alpha: f64, err_beta: f64) -> f64 {
-    let (a, b) = (
-        (alpha.abs() - err_alpha).max(0.0),
-        (beta.abs() - err_beta).max(0.0),
-    );
-    a * a + b * b
+/// How a region lies against the annulus `inner <= |(alpha, beta)| <= 1` (a disk for
+/// `inner = 0`). The radius is folded into the two circles (the annulus widened by a box of
+/// half-widths `r` is within the circles moved by `|r|_1`). Along the segment,
+/// `f(s) = |center + s along|^2` is a convex parabola: the segment meets the outer disk
+/// where its minimum does, and then leaves the hole somewhere exactly when `f` reaches the
+/// inner circle at an end of the segment or the outer circle on the way (where `f` is
+/// larger still). Squares and sums round by `gamma(4)` of `f`, which widens both circles.
+fn meets_annulus(region: &CrossingRegion, inner: f64) -> Meets {
+    let r = evaluated_radius(region);
+    let (c, w) = (region.center, region.along);
+    let slack = r.x + r.y;
+    let hole = (inner - slack).max(0.0);
+    let (outer2, inner2) = ((1.0 + slack) * (1.0 + slack), hole * hole);
+    let (outer2, inner2) = (outer2 * (1.0 + gamma(4)), inner2 * (1.0 - gamma(4)));
+    let f = |s: f64| region.at(s).length_squared();
+    let w2 = w.length_squared();
+    let vertex = if w2 > 0.0 { -c.dot(w) / w2 } else { 0.0 };
+    let s_min = vertex.clamp(-region.reach, region.reach);
+    if !(f(s_min) <= outer2) {
+        return Meets::Outside;
+    }
+    // The segment's ends (its centre for a zero `along`, where an infinite reach would
+    // make NaN).
+    let ends = if w2 > 0.0 && region.reach < f64::INFINITY {
+        [-region.reach, region.reach]
+    } else if w2 > 0.0 {
+        [f64::NEG_INFINITY, f64::INFINITY]
+    } else {
+        [0.0, 0.0]
+    };
+    let f_end = |s: f64| if s.is_infinite() { f64::INFINITY } else { f(s) };
+    let (f0, f1) = (f_end(ends[0]), f_end(ends[1]));
+    if !(f0.max(f1) >= inner2) {
+        return Meets::Outside;
+    }
+    // Wholly inside: the farthest point within the unit circle, the nearest outside the
+    // hole, both by the radius (and the rounding), strictly.
+    let strict = 1.0 - slack;
+    let far_ok = f0.max(f1) * (1.0 + gamma(4)) <= strict * strict;
+    let near_ok = inner == 0.0 || f(s_min) * (1.0 - gamma(4)) >= (inner + slack) * (inner + slack);
+    if strict > 0.0 && far_ok && near_ok {
+        return Meets::Inside;
+    }
+    if f(s_min) >= inner2 {
+        return Meets::Near(s_min);
+    }
+    // The nearest point of the segment is in the hole (so `along` is not zero, or no end
+    // would leave it): from the parabola's vertex, step to where `f` reaches the hole's
+    // edge, on the side of an end that leaves the hole.
+    let step = sqrt(((inner2 - f(vertex)) / w2).max(0.0));
+    let s = if f1 >= inner2 {
+        (vertex + step).min(region.reach)
+    } else {
+        (vertex - step).max(-region.reach)
+    };
+    Meets::Near(s)
 }
 
 #[inline]

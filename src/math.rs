@@ -86,3 +86,116 @@ pub(crate) fn acos(x: f64) -> f64 {
         libm::acos(x)
     }
 }
+
+/// `a * b + c` with one rounding.
+#[inline]
+#[must_use]
+pub(crate) fn mul_add(a: f64, b: f64, c: f64) -> f64 {
+    #[cfg(feature = "std")]
+    {
+        a.mul_add(b, c)
+    }
+    #[cfg(not(feature = "std"))]
+    {
+        libm::fma(a, b, c)
+    }
+}
+
+/// An unevaluated sum `hi + lo` with `|lo| <= ulp(hi) / 2`: about 106 significant bits, for
+/// the rare decisions that `f64` cannot settle (double-double arithmetic: Dekker 1971;
+/// Hida, Li and Bailey 2001, "Algorithms for quad-double precision floating point
+/// arithmetic"). Each operation below has a relative error of at most `4 u^2` of the
+/// magnitudes it combines (`u` the unit roundoff), which is all the callers rely on.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Dd {
+    pub(crate) hi: f64,
+    pub(crate) lo: f64,
+}
+
+impl Dd {
+    /// `a - b`, exactly (Knuth's two-sum).
+    #[inline]
+    pub(crate) fn diff(a: f64, b: f64) -> Self {
+        two_sum(a, -b)
+    }
+
+    /// `a * b`, exactly (barring underflow): the error of the rounded product is itself a
+    /// float, which a fused multiply-add recovers.
+    #[inline]
+    pub(crate) fn product(a: f64, b: f64) -> Self {
+        let hi = a * b;
+        Self {
+            hi,
+            lo: mul_add(a, b, -hi),
+        }
+    }
+
+    #[inline]
+    pub(crate) fn add(self, other: Self) -> Self {
+        let s = two_sum(self.hi, other.hi);
+        let t = two_sum(self.lo, other.lo);
+        let s = quick_two_sum(s.hi, s.lo + t.hi);
+        quick_two_sum(s.hi, s.lo + t.lo)
+    }
+
+    #[inline]
+    pub(crate) fn neg(self) -> Self {
+        Self {
+            hi: -self.hi,
+            lo: -self.lo,
+        }
+    }
+
+    #[inline]
+    pub(crate) fn mul(self, other: Self) -> Self {
+        let p = Self::product(self.hi, other.hi);
+        quick_two_sum(p.hi, p.lo + (self.hi * other.lo + self.lo * other.hi))
+    }
+
+    #[inline]
+    pub(crate) fn mul_f64(self, b: f64) -> Self {
+        let p = Self::product(self.hi, b);
+        quick_two_sum(p.hi, p.lo + self.lo * b)
+    }
+
+    /// `self / other`: a quotient, corrected once by its remainder.
+    #[inline]
+    pub(crate) fn div(self, other: Self) -> Self {
+        let q1 = self.hi / other.hi;
+        let r = self.add(other.mul_f64(q1).neg());
+        let q2 = r.hi / other.hi;
+        let r = r.add(other.mul_f64(q2).neg());
+        let q3 = r.hi / other.hi;
+        let q = quick_two_sum(q1, q2);
+        q.add(Self { hi: q3, lo: 0.0 })
+    }
+
+    /// `x . y` of three double-double components and three floats.
+    #[inline]
+    pub(crate) fn dot(x: [Self; 3], y: glam::DVec3) -> Self {
+        x[0].mul_f64(y.x)
+            .add(x[1].mul_f64(y.y))
+            .add(x[2].mul_f64(y.z))
+    }
+}
+
+/// `a + b` as a rounded sum and its exact error.
+#[inline]
+fn two_sum(a: f64, b: f64) -> Dd {
+    let hi = a + b;
+    let bb = hi - a;
+    Dd {
+        hi,
+        lo: (a - (hi - bb)) + (b - bb),
+    }
+}
+
+/// `a + b` for `|a| >= |b|` (or `a == 0`).
+#[inline]
+fn quick_two_sum(a: f64, b: f64) -> Dd {
+    let hi = a + b;
+    Dd {
+        hi,
+        lo: b - (hi - a),
+    }
+}

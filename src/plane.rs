@@ -1,7 +1,10 @@
 use glam::{DVec2, DVec3};
 
-use crate::math::{gamma, unit_and_length};
+use crate::math::{Dd, UNIT_ROUNDOFF, gamma, power_of_two_scale, unit_and_length};
 use crate::{Aabb, GeometryError, HitRecord, Hittable, Interval, MaterialId, Ray};
+
+/// The plane's [`tolerance`](Plane::tolerance), relative to its corners' magnitude: 2^-48.
+const TOLERANCE: f64 = 1.0 / (1u64 << 48) as f64;
 
 /// Where a ray meets a plane: the ray parameter `t` and the plane coordinates of the point,
 /// `q + alpha * u + beta * v`.
@@ -39,7 +42,62 @@ pub struct Plane {
     /// two dot products per hit instead of two cross products and two dot products.
     to_alpha: DVec3,
     to_beta: DVec3,
+    /// `(|to_alpha|_1, |to_beta|_1)`: what a world-space distance is at most in `alpha`
+    /// and `beta`.
+    coordinate_scale: DVec2,
+    /// The relative error of the computed `to_alpha`, `to_beta` (and of the direction of
+    /// the computed normal, which is smaller): `2 gamma(2) (1 + 1/s) + 2 u`, `s` the sine
+    /// between `u` and `v` (bounded from below by `|u x v|_2 / (|u|_1 |v|_1)`).
+    frame_error: f64,
+    /// The world-space distance shapes on this plane are widened by ([`Plane::tolerance`]).
+    tolerance: f64,
     material: MaterialId,
+}
+
+/// Where the exact crossing of a ray with a plane can lie, in `(alpha, beta)`, given the
+/// rounding of the computed one ([`Plane::crossing_region`]): within `radius` (per
+/// coordinate) of a point `center + s * along` with `|s| <= reach`.
+///
+/// The rounding of a crossing is of two kinds. Along the ray, `t` is uncertain, and as the
+/// ray grazes the plane that uncertainty grows without bound: `reach` (in units of `t`)
+/// carries it, and `along` (how `alpha` and `beta` move per unit of `t`) points it along
+/// the ray's shadow on the plane. Every point of that segment is still within a tiny
+/// world-space distance of the ray itself. Across the ray, the crossing is known to within
+/// a few ulps of the magnitudes involved, whatever the angle: `radius`. A shape that meets
+/// the region is therefore met by the ray to within that world-space distance, and a ray
+/// that crosses the plane inside a shape always finds the shape meeting its region:
+/// shapes that share an edge leave no crack, and nothing beside a shape is hit.
+///
+/// Both also hold the plane's [`tolerance`](Plane::tolerance), the world-space width by
+/// which shapes widen to close the gaps that separately rounded corners leave.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CrossingRegion {
+    /// The computed crossing.
+    pub center: DVec2,
+    /// The change of `(alpha, beta)` per unit of `t` along the ray.
+    pub along: DVec2,
+    /// How far along the ray, in units of `t`, the exact crossing can be; may be infinite.
+    pub reach: f64,
+    /// How far across, in `alpha` and `beta`.
+    pub radius: DVec2,
+}
+
+impl CrossingRegion {
+    /// The point `s` along the segment: `center + s * along`.
+    #[inline]
+    #[must_use]
+    pub fn at(&self, s: f64) -> DVec2 {
+        self.center + s * self.along
+    }
+
+    /// `reach * |along|` per coordinate: how far the segment extends from its centre
+    /// (0 where `along` is 0, even for an infinite reach).
+    #[inline]
+    #[must_use]
+    pub fn half_length(&self) -> DVec2 {
+        let scaled = |w: f64| if w == 0.0 { 0.0 } else { self.reach * w.abs() };
+        DVec2::new(scaled(self.along.x), scaled(self.along.y))
+    }
 }
 
 impl Plane {
@@ -77,13 +135,28 @@ impl Plane {
         if !n_len.is_normal() {
             return Err(GeometryError::OutOfRange);
         }
+        let (to_alpha, to_beta) = (v.cross(normal / n_len), (normal / n_len).cross(u));
+        let l1 = |x: DVec3| x.abs().element_sum();
+        // 1/s = |u| |v| / |u x v| <= |u|_1 |v|_1 / |u x v|_2.
+        let inv_s = (unit_and_length(u).1 / n_len) * unit_and_length(v).1;
+        let frame_error = (2.0 * gamma(2) * (1.0 + inv_s) + 2.0 * UNIT_ROUNDOFF) * (1.0 + gamma(4));
+        let coordinate_scale = DVec2::new(l1(to_alpha), l1(to_beta));
+        // Every corner (or a disk's extreme point) is q + (+-1 or 0) u + (+-1 or 0) v.
+        let magnitude = q.abs().max_element() + u.abs().max_element() + v.abs().max_element();
+        let tolerance = TOLERANCE * magnitude;
+        if !(coordinate_scale.is_finite() && frame_error.is_finite() && tolerance.is_finite()) {
+            return Err(GeometryError::OutOfRange);
+        }
         Ok(Self {
             q,
             u,
             v,
             normal,
-            to_alpha: v.cross(normal / n_len),
-            to_beta: (normal / n_len).cross(u),
+            to_alpha,
+            to_beta,
+            coordinate_scale,
+            frame_error,
+            tolerance,
             material: MaterialId::default(),
         })
     }
@@ -183,70 +256,230 @@ impl Plane {
         })
     }
 
-    /// Bounds on the rounding errors of `hit.alpha` and `hit.beta` as [`Plane::intersect`]
-    /// computed them for `ray`: the exact intersection of the ray with the plane has
-    /// coordinates within `(x, y)` of them. Shapes widen their edges by it, so that a ray
-    /// through an edge shared by two shapes finds at least one of them.
+    /// Where the exact crossing of `ray` with the plane can be, given that `hit` (from
+    /// [`Plane::intersect`]) was computed in `f64`: see [`CrossingRegion`]. Shapes decide
+    /// whether they are hit by whether they meet it
+    /// ([`Interior::meets`](crate::Interior::meets)).
     ///
-    /// Derivation (first order in the unit roundoff `u_r`, constants rounded up; `|.|_1`
-    /// bounds the Euclidean norm from above, so no square roots are needed):
-    /// `t = n.(q - o) / n.d` has relative error at most
-    /// `(gamma(4) |q - o| + gamma(3) t |d|) / (t |d| c) + u_r`, `c` the cosine of incidence;
-    /// `p = (o - q) + t d` adds `gamma(2) (|q - o| + t |d|)`; the computed normal is tilted
-    /// by up to `1.5 gamma(2) / s + 2 u_r` (`s` the sine between `u` and `v`), which moves
-    /// the hit by that times `|p| / c`; and `alpha = p.(v x w)` rounds by `gamma(3)` of
-    /// `|p| |v x w|` while `v x w` itself carries `2 gamma(2) (1 + 1 / s) + 2 u_r` of
-    /// relative error. An in-plane position error `e` is `e |v x w| = e / (|u| s)` in
-    /// alpha. With `a = |q - o|`, `b = t |d|`, `P = |p|` and `1 / c <= |d|_1 / |n.d|`:
-    /// `e = gamma(5) (a + b) (1 + 1/c) + P (3 gamma(4) + 2 gamma(2) / s + (2 gamma(2) / s + 2 u_r) / c)`.
+    /// Derivation (first order in the unit roundoff `u_r`; `|.|_1` bounds the Euclidean
+    /// norm from above). With `a = |q - o|_1`, `b = |t| |d|_1`, `P = |p|_1` for the computed
+    /// `p = t d - (q - o)` and `c = |n.d|`:
+    /// - `p` is within `gamma(2) (a + b)` of the exact point of the ray at this `t`, in any
+    ///   direction (three roundings per coordinate), and `alpha = p.(v x w)` adds the
+    ///   dot product's `gamma(3) P` and the frame's relative error (`v x w` carries
+    ///   `2 gamma(2) (1 + 1/s) + 2 u_r`, `s` the sine between `u` and `v`) times `P`. These
+    ///   do not depend on the angle of the ray: they make `radius`.
+    /// - `t = n.(q - o) / n.d` errs by `gamma(4) a` in the numerator and `gamma(3) |d|_1` in
+    ///   the denominator, and the computed normal is tilted by up to the frame error `e`,
+    ///   which puts the exact crossing up to `e (P + |t* - t| |d|_1)` above the plane the
+    ///   computed `t` belongs to. Solved for `|t* - t|`:
+    ///   `(gamma(4) a + gamma(3) b + e P) / (c - (gamma(3) + e) |d|_1) + gamma(2) |t|`, infinite
+    ///   when the ray is within that angle of parallel: `reach`, along the ray.
+    /// - `along` is computed with the same frame error, so over the reach the segment may
+    ///   drift sideways by `reach |d|_1 (e + gamma(3))`, which joins `radius`.
+    ///
+    /// The plane's [`tolerance`](Plane::tolerance) `T` joins both: `radius` grows by `T`, and
+    /// `reach` by `T / c`, so that a shape meeting the region comes within `T` (plus the
+    /// rounding above) of the ray, measured in world space.
     ///
     /// ```
     /// use hitkit::{glam::DVec3, Interval, Plane, Ray};
     /// let plane = Plane::new(DVec3::splat(1e9), DVec3::X, DVec3::Y).unwrap();
     /// let ray = Ray::new(DVec3::new(1e9 + 0.5, 1e9 + 0.5, 1e9 + 1.0), DVec3::NEG_Z);
     /// let hit = plane.intersect(&ray, Interval::UNIVERSE).unwrap();
-    /// let error = plane.coordinate_error(&ray, &hit);
-    /// assert!(error.x > 0.0 && error.x < 1e-6 && error.y < 1e-6);
+    /// let region = plane.crossing_region(&ray, &hit);
+    /// assert!(region.radius.x > 0.0 && region.radius.x < 1e-5 && region.reach < 1e-5);
+    /// // A grazing ray: far along, but not across.
+    /// let grazing = Ray::new(DVec3::new(1e9 + 0.5, 1e9 + 0.5, 1e9 + 1e-6), DVec3::new(1.0, 0.0, -1e-6));
+    /// let hit = plane.intersect(&grazing, Interval::UNIVERSE).unwrap();
+    /// let region = plane.crossing_region(&grazing, &hit);
+    /// assert!(region.reach > 1.0 && region.radius.y < 1e-5);
     /// ```
     #[must_use]
-    pub fn coordinate_error(&self, ray: &Ray, hit: &PlaneHit) -> DVec2 {
+    pub fn crossing_region(&self, ray: &Ray, hit: &PlaneHit) -> CrossingRegion {
         let l1 = |v: DVec3| v.abs().element_sum();
         let q_minus_o = self.q - ray.origin;
         let p = hit.t * ray.direction - q_minus_o;
-        let d = l1(ray.direction);
-        let (a, b, big_p) = (l1(q_minus_o), hit.t.abs() * d, l1(p));
-        let inv_c = d / self.normal.dot(ray.direction).abs();
-        // |v x w| = 1 / (|u| s) and |w x u| = 1 / (|v| s), so 1 / s = |u| |v x w|.
-        let (inv_us, inv_vs) = (l1(self.to_alpha), l1(self.to_beta));
-        let inv_s = l1(self.u) * inv_us;
-        let e = gamma(5) * (a + b) * (1.0 + inv_c)
-            + big_p
-                * (3.0 * gamma(4)
-                    + 2.0 * gamma(2) * inv_s
-                    + (2.0 * gamma(2) * inv_s + 2.0 * gamma(1)) * inv_c);
-        // The bound's own arithmetic rounds too: a few more ulps.
-        e * (1.0 + gamma(8)) * DVec2::new(inv_us, inv_vs)
+        let d1 = l1(ray.direction);
+        let (a, b, big_p) = (l1(q_minus_o), hit.t.abs() * d1, l1(p));
+        let c = self.normal.dot(ray.direction).abs();
+        let e = self.frame_error;
+        let across = gamma(2) * (a + b);
+        let slack = c - (gamma(3) + e) * d1;
+        let reach = if slack > 0.0 {
+            (gamma(4) * a + gamma(3) * b + e * (big_p + across) + self.tolerance) / slack
+                + gamma(2) * hit.t.abs() * (c / slack)
+        } else {
+            f64::INFINITY
+        };
+        let world = across + big_p * (gamma(3) + e) + self.tolerance;
+        self.region(hit, ray.direction, reach, world, e + gamma(3), 0.0)
+    }
+
+    /// A region for the crossing `hit`, from the bounds the two ways of computing it share:
+    /// `reach` along the ray (in units of `t`), `world` across it (a world-space distance),
+    /// `along_error` the relative error of `along`, and `rounded` the error of `alpha` and
+    /// `beta` that is relative to themselves. Each bound is enlarged by `gamma(16)` for the
+    /// rounding of its own evaluation.
+    fn region(
+        &self,
+        hit: &PlaneHit,
+        direction: DVec3,
+        reach: f64,
+        world: f64,
+        along_error: f64,
+        rounded: f64,
+    ) -> CrossingRegion {
+        let d1 = direction.abs().element_sum();
+        let along = DVec2::new(direction.dot(self.to_alpha), direction.dot(self.to_beta));
+        let drift = if reach < f64::INFINITY {
+            reach * d1 * along_error
+        } else {
+            f64::INFINITY
+        };
+        let center = DVec2::new(hit.alpha, hit.beta);
+        let grow = 1.0 + gamma(16);
+        CrossingRegion {
+            center,
+            along,
+            reach: reach * grow,
+            radius: ((world + drift) * self.coordinate_scale + rounded * center.abs()) * grow,
+        }
+    }
+
+    /// The crossing of `ray` with the plane again, in double-double arithmetic (about 106
+    /// bits), with a region of the same meaning as [`Plane::crossing_region`]'s but whose
+    /// width no longer depends on how far the ray comes from: for the rare rays that the
+    /// `f64` region leaves undecided, close to a shape's edge. `None` where the
+    /// arithmetic overflows (coordinates near `f64::MAX`).
+    ///
+    /// `q - o` is exact as a double-double; the normal is `u x v` from exact products (so
+    /// its tilt is of order `u_r^2 / s`, and no longer the `f64` frame's `u_r / s`); `t`,
+    /// the point `t d - (q - o)` and its coordinates follow. Every double-double operation
+    /// errs by at most `4 u_r^2` of the magnitudes it combines (Hida, Li and Bailey 2001),
+    /// and no chain here has more than 64 of them: `K = 256 u_r^2` bounds each step
+    /// relative to the magnitudes `a`, `b` and `P` as in [`Plane::crossing_region`]. The
+    /// frame's own error `e` (from the `f64` vectors `v x w` and `w x u`) still applies to
+    /// `alpha` and `beta`, and their final rounding to `f64` adds `u_r` of themselves.
+    pub(crate) fn refine(&self, ray: &Ray) -> Option<(PlaneHit, CrossingRegion)> {
+        let (q, o, d) = (self.q, ray.origin, ray.direction);
+        let a = [
+            Dd::diff(q.x, o.x),
+            Dd::diff(q.y, o.y),
+            Dd::diff(q.z, o.z),
+        ];
+        let (u, v) = (self.u, self.v);
+        let cross = |a0: f64, b0: f64, a1: f64, b1: f64| {
+            Dd::product(a0, b0).add(Dd::product(a1, b1).neg())
+        };
+        let n = [
+            cross(u.y, v.z, u.z, v.y),
+            cross(u.z, v.x, u.x, v.z),
+            cross(u.x, v.y, u.y, v.x),
+        ];
+        // Scaled by a power of two (exactly) so that n.(q - o) cannot overflow early.
+        let scale = power_of_two_scale(n[0].hi.abs().max(n[1].hi.abs()).max(n[2].hi.abs()));
+        let n = n.map(|x| x.mul_f64(scale));
+        let num = n[0].mul(a[0]).add(n[1].mul(a[1])).add(n[2].mul(a[2]));
+        let den = Dd::dot(n, d);
+        let t = num.div(den);
+        let p = [
+            t.mul_f64(d.x).add(a[0].neg()),
+            t.mul_f64(d.y).add(a[1].neg()),
+            t.mul_f64(d.z).add(a[2].neg()),
+        ];
+        let hit = PlaneHit {
+            t: t.hi,
+            alpha: Dd::dot(p, self.to_alpha).hi,
+            beta: Dd::dot(p, self.to_beta).hi,
+        };
+
+        let k = 256.0 * UNIT_ROUNDOFF * UNIT_ROUNDOFF;
+        let l1 = |x: [Dd; 3]| x[0].hi.abs() + x[1].hi.abs() + x[2].hi.abs();
+        let n1 = l1(n);
+        let d1 = d.abs().element_sum();
+        let (a, b, big_p) = (l1(a), hit.t.abs() * d1, l1(p.map(|x| Dd { hi: x.hi, lo: 0.0 })));
+        // The height gained per unit of t is |n.d| / |n|_2, at least |den| / |n|_1.
+        let c = den.hi.abs() / n1;
+        let tilt = k * (1.0 + self.frame_error / gamma(2));
+        let across = k * (a + b);
+        let slack = c - (k + tilt) * d1;
+        let reach = if slack > 0.0 {
+            (k * (a + b) + tilt * (big_p + across) + self.tolerance) / slack + k * hit.t.abs()
+        } else {
+            f64::INFINITY
+        };
+        let world = across + big_p * (k + self.frame_error) + self.tolerance;
+        let region = self.region(
+            &hit,
+            d,
+            reach,
+            world,
+            self.frame_error + gamma(3),
+            UNIT_ROUNDOFF,
+        );
+        let finite = hit.t.is_finite()
+            && hit.alpha.is_finite()
+            && hit.beta.is_finite()
+            && region.radius.is_finite()
+            && !region.reach.is_nan();
+        finite.then_some((hit, region))
+    }
+
+    /// `(|v x w|_1, |w x u|_1)`: the most a world-space distance can be in `alpha` and
+    /// `beta`.
+    #[inline]
+    pub(crate) fn coordinate_scale(&self) -> DVec2 {
+        self.coordinate_scale
+    }
+
+    /// The relative error of the frame that computes `alpha` and `beta`.
+    #[inline]
+    pub(crate) fn frame_error(&self) -> f64 {
+        self.frame_error
+    }
+
+    /// The world-space distance by which shapes on this plane widen, so that neighbours
+    /// whose shared corners were rounded separately (a rotated box built face by face in
+    /// world coordinates, say) leave no crack between them: `2^-48` (32 units of roundoff)
+    /// of `|q|_inf + |u|_inf + |v|_inf`, which bounds every corner's largest coordinate.
+    /// Computing a corner such as `offset + R * corner` rounds each coordinate by a few
+    /// units of roundoff of that magnitude, so two separately computed copies of a corner
+    /// stay well within it.
+    ///
+    /// ```
+    /// use hitkit::{glam::DVec3, Plane};
+    /// let plane = Plane::new(DVec3::new(1e6, 0.0, 0.0), DVec3::X, DVec3::Y).unwrap();
+    /// assert_eq!(plane.tolerance(), (1e6 + 2.0) / 2f64.powi(48));
+    /// ```
+    #[inline]
+    #[must_use]
+    pub fn tolerance(&self) -> f64 {
+        self.tolerance
     }
 
     /// The hit record for a hit found by [`Plane::intersect`], with surface coordinates
     /// `uv`. The point is `q + alpha u + beta v`, which lies on the plane to within
     /// rounding whatever the error of `alpha` and `beta`; its error bound is that rounding.
+    /// `None` where the point overflows (coordinates near `f64::MAX`).
     #[inline]
     #[must_use]
-    pub fn hit_record(&self, ray: &Ray, hit: PlaneHit, uv: DVec2) -> HitRecord {
+    pub fn hit_record(&self, ray: &Ray, hit: PlaneHit, uv: DVec2) -> Option<HitRecord> {
         let (au, bv) = (hit.alpha * self.u, hit.beta * self.v);
         let point = self.q + (au + bv);
         // Two products, one sum, one more sum: gamma(3) of the summed magnitudes.
         let point_error = gamma(3) * (self.q.abs() + au.abs() + bv.abs());
-        HitRecord::new(
-            ray,
-            hit.t,
-            point,
-            point_error,
-            self.normal,
-            uv,
-            self.material,
-        )
+        (point.is_finite() && point_error.is_finite()).then(|| {
+            HitRecord::new(
+                ray,
+                hit.t,
+                point,
+                point_error,
+                self.normal,
+                uv,
+                self.material,
+            )
+        })
     }
 }
 
@@ -254,8 +487,9 @@ impl Hittable for Plane {
     /// `uv` is `(alpha, beta)`, unbounded.
     #[inline]
     fn hit(&self, ray: &Ray, ray_t: Interval) -> Option<HitRecord> {
-        let hit = self.intersect(ray, ray_t)?;
-        Some(self.hit_record(ray, hit, DVec2::new(hit.alpha, hit.beta)))
+        let mut hit = self.intersect(ray, ray_t)?;
+        hit.t = self.bounding_box().clamp_hit(ray, ray_t, hit.t)?;
+        self.hit_record(ray, hit, DVec2::new(hit.alpha, hit.beta))
     }
 
     /// A thin slab, infinite along the other two axes, when the normal is exactly an axis

@@ -1,8 +1,8 @@
 use glam::DVec3;
 
 use crate::{
-    Aabb, GeometryError, HitRecord, Hittable, Interior, Interval, MaterialId, Parallelogram, Plane,
-    Ray, Sampling,
+    Aabb, GeometryError, HitRecord, Hittable, Interior, Interval, MaterialId, Meets,
+    Parallelogram, Plane, PlaneHit, Ray, Sampling,
 };
 
 /// A planar shape: a [`Plane`] finds `(t, alpha, beta)`, an [`Interior`] predicate decides
@@ -57,7 +57,11 @@ impl<S: Interior> Quad<S> {
     /// As [`Plane::new`].
     pub fn with_interior(q: DVec3, u: DVec3, v: DVec3, shape: S) -> Result<Self, GeometryError> {
         let plane = Plane::new(q, u, v)?;
-        let bbox = shape.bounding_box(&plane);
+        let shape_box = shape.bounding_box(&plane);
+        let bbox = shape_box.grown(DVec3::splat(reach_beyond(&plane)));
+        if shape_box.is_bounded() && !bbox.is_bounded() {
+            return Err(GeometryError::OutOfRange);
+        }
         Ok(Self {
             plane,
             shape,
@@ -105,31 +109,55 @@ impl<S: Interior> Quad<S> {
     }
 }
 
+/// How far beyond its shape (in world space, per coordinate) a quad can accept a hit: the
+/// widest a double-double [`CrossingRegion`](crate::CrossingRegion) can be across the ray
+/// for a point near the shape, in `alpha` and `beta` units mapped back by `|u|_1` and
+/// `|v|_1`, twice over. The part of such a region along the ray stays within the same
+/// distance of the plane. The box grows by it, so that it holds every hit the shape
+/// reports.
+fn reach_beyond(plane: &Plane) -> f64 {
+    let l1 = |v: DVec3| v.abs().element_sum();
+    let (u1, v1) = (l1(plane.u()), l1(plane.v()));
+    // Points near the shape are within |u|_1 + |v|_1 of q; the frame's relative error
+    // applies to that distance (see `Plane::refine`), and the tolerance joins it.
+    let scale = plane.coordinate_scale();
+    let across = plane.tolerance() + (u1 + v1) * plane.frame_error();
+    2.0 * across * (1.0 + scale.x * u1 + scale.y * v1)
+}
+
 impl<S: Interior> Hittable for Quad<S> {
     #[inline]
     fn hit(&self, ray: &Ray, ray_t: Interval) -> Option<HitRecord> {
-        let hit = self.plane.intersect(ray, ray_t)?;
-        // Outside by the computed coordinates: a hit all the same if the exact ones could be
-        // inside (watertight edges), for shapes that widen.
-        if !self.shape.contains(hit.alpha, hit.beta) {
-            if !self.shape.widens() {
-                return None;
-            }
-            // An error bound that overflows says nothing: such a point (coordinates near
-            // f64::MAX) is no hit.
-            let error = self.plane.coordinate_error(ray, &hit);
-            if !error.is_finite()
-                || !self
-                    .shape
-                    .contains_within(hit.alpha, hit.beta, error.x, error.y)
-            {
-                return None;
+        let plane = &self.plane;
+        let mut hit = plane.intersect(ray, ray_t)?;
+        match self.shape.meets(&plane.crossing_region(ray, &hit)) {
+            Meets::Inside => {}
+            Meets::Outside => return None,
+            // Rounding in f64 cannot tell: ask again of the double-double crossing, whose
+            // region is as narrow as the shape's own corners allow.
+            Meets::Near(_) => {
+                let (precise, region) = plane.refine(ray)?;
+                hit = match self.shape.meets(&region) {
+                    Meets::Inside => precise,
+                    Meets::Near(s) => {
+                        let at = region.at(s);
+                        PlaneHit {
+                            t: precise.t + s,
+                            alpha: at.x,
+                            beta: at.y,
+                        }
+                    }
+                    Meets::Outside => return None,
+                };
+                if !ray_t.contains(hit.t) {
+                    return None;
+                }
             }
         }
-        Some(
-            self.plane
-                .hit_record(ray, hit, self.shape.uv(hit.alpha, hit.beta)),
-        )
+        // A t that rounding put before or past the box moves onto it, so that a Bvh (whose
+        // boxes contain this one) finds every hit a loop over the shapes finds.
+        hit.t = self.bbox.clamp_hit(ray, ray_t, hit.t)?;
+        plane.hit_record(ray, hit, self.shape.uv(hit.alpha, hit.beta))
     }
 
     #[inline]

@@ -39,8 +39,8 @@
 
 mod support;
 
-use hitkit::glam::{DQuat, DVec3};
-use hitkit::{Disk, Hittable, Interval, Parallelogram, Plane, Quad, Ray, Ring, Triangle};
+use hitkit::glam::{DQuat, DVec2, DVec3};
+use hitkit::{CrossingRegion, Disk, Hittable, Interval, Parallelogram, Plane, Quad, Ray, Ring, Triangle};
 use proptest::prelude::*;
 use support::gamma;
 
@@ -126,6 +126,27 @@ prop_compose! {
     }
 }
 
+/// Whether some point `region.at(s)`, `|s| <= region.reach`, is within `radius` of
+/// `target` in both coordinates.
+fn segment_reaches(region: &CrossingRegion, target: DVec2, radius: DVec2) -> bool {
+    let (mut lo, mut hi) = (-region.reach, region.reach);
+    for (c, w, x, r) in [
+        (region.center.x, region.along.x, target.x, radius.x),
+        (region.center.y, region.along.y, target.y, radius.y),
+    ] {
+        if w == 0.0 {
+            if (x - c).abs() > r {
+                return false;
+            }
+        } else {
+            let (a, b) = ((x - r - c) / w, (x + r - c) / w);
+            lo = lo.max(a.min(b));
+            hi = hi.min(a.max(b));
+        }
+    }
+    lo <= hi
+}
+
 /// `Some(true)` when `margin` (positive inside) clears the tolerance, `Some(false)` when
 /// it is outside by more than it, `None` in between, where either answer is right.
 fn classify(margin: f64, tol: f64) -> Option<bool> {
@@ -183,30 +204,35 @@ proptest! {
         prop_assert!((hit.beta - case.beta).abs() <= tol.beta, "beta {} vs {}, tol {}", hit.beta, case.beta, tol.beta);
         prop_assert!((hit.t - 1.0).abs() <= tol.t, "t {} vs 1, tol {}", hit.t, tol.t);
 
-        // hitkit's own bound on the rounding of alpha and beta (what its quads widen their
-        // edges by), plus the error of building the ray (item 1 above), must cover the
-        // difference from the target too.
-        let bound = plane.coordinate_error(&case.ray(), &hit);
+        // hitkit's own region for the exact crossing (what its quads decide by), grown by the
+        // error of building the ray (item 1 above), must hold the target too: some point of
+        // its segment is within its radius of the target.
+        let region = plane.crossing_region(&case.ray(), &hit);
         let (u, v, d) = (case.u, case.v, case.direction);
         let n = u.cross(v);
         let c = n.normalize().dot(d.normalize()).abs();
         let s = n.length() / (u.length() * v.length());
         let m = (case.origin - case.q).length() + (case.alpha * u).length() + (case.beta * v).length() + d.length();
         let built = gamma(3) * m * (1.0 + 1.0 / c);
-        prop_assert!((hit.alpha - case.alpha).abs() <= built / (u.length() * s) + bound.x, "alpha {} vs {}, bound {}", hit.alpha, case.alpha, bound.x);
-        prop_assert!((hit.beta - case.beta).abs() <= built / (v.length() * s) + bound.y, "beta {} vs {}, bound {}", hit.beta, case.beta, bound.y);
+        let slack = DVec2::new(built / (u.length() * s), built / (v.length() * s));
+        let target = DVec2::new(case.alpha, case.beta);
+        prop_assert!(
+            segment_reaches(&region, target, region.radius + slack),
+            "target {:?} outside {:?} (+ {:?})", target, region, slack
+        );
     }
 
     #[test]
     fn shapes_hit_points_inside_by_the_bound_and_miss_points_outside_by_it(case in case()) {
         let (a, b) = (case.alpha, case.beta);
         let tol = case.tolerance();
-        // The quads widen their edges by the bound hitkit computes for this ray
-        // (`Plane::coordinate_error`, watertight edges): a point outside by less than that
-        // may hit, so it joins the tolerance.
+        // The quads decide by the region where the exact crossing can be (watertight edges,
+        // `Plane::crossing_region`), which holds their tolerance too: a point outside by
+        // less than its extent may hit, so the extent joins the tolerance.
         let plane = Plane::new(case.q, case.u, case.v).unwrap();
         let hit = plane.intersect(&case.ray(), Interval::UNIVERSE).expect("aimed at the plane");
-        let widening = plane.coordinate_error(&case.ray(), &hit);
+        let region = plane.crossing_region(&case.ray(), &hit);
+        let widening = region.radius + region.half_length();
         let (ta, tb) = (tol.alpha + widening.x, tol.beta + widening.y);
         // Margins are measured on the exact (alpha, beta) the ray was aimed at.
         let square = [classify(a, ta), classify(1.0 - a, ta), classify(b, tb), classify(1.0 - b, tb)];

@@ -1,7 +1,7 @@
 //! Front-to-back traversal with an explicit stack: no recursion, no allocation.
 
 use super::{Bvh, MAX_DEPTH, Pair};
-use crate::aabb::{BoxRay, slab_entries};
+use crate::aabb::{BoxRay, slab_spans};
 use crate::{Hittable, Interval, Ray};
 
 /// Where the ray enters each of the two siblings within `ray_t` (`+inf`: it misses), by
@@ -9,7 +9,7 @@ use crate::{Hittable, Interval, Ray};
 #[inline(always)]
 fn entries(pair: &Pair, ray: &BoxRay, ray_t: Interval) -> [f64; 2] {
     let widen = |axes: &[[f32; 2]; 3]| axes.map(|lanes| lanes.map(f64::from));
-    slab_entries(widen(&pair.min), widen(&pair.max), ray, ray_t)
+    slab_spans(widen(&pair.min), widen(&pair.max), ray, ray_t).0
 }
 
 impl<T: Hittable> Bvh<T> {
