@@ -322,7 +322,9 @@ fn meets_annulus(region: &CrossingRegion, inner: f64) -> Meets {
     let w2 = w.length_squared();
     let vertex = if w2 > 0.0 { -c.dot(w) / w2 } else { 0.0 };
     let s_min = vertex.clamp(-region.reach, region.reach);
-    if !(f(s_min) <= outer2) {
+    // (NaN, from an overflow, is no hit.)
+    let closest = f(s_min);
+    if closest.is_nan() || closest > outer2 {
         return Meets::Outside;
     }
     // The segment's ends (its centre for a zero `along`, where an infinite reach would
@@ -336,7 +338,7 @@ fn meets_annulus(region: &CrossingRegion, inner: f64) -> Meets {
     };
     let f_end = |s: f64| if s.is_infinite() { f64::INFINITY } else { f(s) };
     let (f0, f1) = (f_end(ends[0]), f_end(ends[1]));
-    if !(f0.max(f1) >= inner2) {
+    if f0.max(f1).is_nan() || f0.max(f1) < inner2 {
         return Meets::Outside;
     }
     // Wholly inside: the farthest point within the unit circle, the nearest outside the
