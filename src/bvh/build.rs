@@ -6,7 +6,7 @@ use alloc::boxed::Box;
 use alloc::vec;
 use alloc::vec::Vec;
 
-use glam::Vec4;
+use glam::{DVec3, Vec4};
 
 use super::{Bvh, MAX_DEPTH, Pair};
 use crate::{Aabb, Hittable};
@@ -85,14 +85,34 @@ pub(super) fn build<T: Hittable>(mut objects: Vec<T>) -> Bvh<T> {
         u32::try_from(objects.len()).is_ok(),
         "a Bvh holds at most u32::MAX objects"
     );
-    let mut bbox = Aabb::EMPTY;
+    let boxes: Vec<Aabb> = objects.iter().map(Hittable::bounding_box).collect();
+    let bbox = boxes.iter().fold(Aabb::EMPTY, |b, o| b.union(o));
+    // The centre of the bounded objects' box: nodes store their bounds relative to it, so
+    // that f32 keeps its precision however far from the world's origin the scene sits.
+    let bounded = boxes
+        .iter()
+        .filter(|b| b.is_bounded())
+        .fold(Aabb::EMPTY, |b, o| b.union(o));
+    let origin = if bounded.is_bounded() {
+        let centre = 0.5 * bounded.min() + 0.5 * bounded.max();
+        // Rounded to f32's precision where it has it, so that differences from it stay
+        // exact more often.
+        let rounded = centre.as_vec3();
+        if rounded.is_finite() {
+            rounded.as_dvec3()
+        } else {
+            centre
+        }
+    } else {
+        DVec3::ZERO
+    };
     let mut prims = Vec::with_capacity(objects.len());
     let mut unbounded = Vec::new();
-    for (index, object) in (0u32..).zip(&objects) {
-        let b = object.bounding_box();
-        bbox = bbox.union(&b);
-        let [x0, y0, z0] = b.min().to_array().map(round_down);
-        let [x1, y1, z1] = b.max().to_array().map(round_up);
+    for (index, b) in (0u32..).zip(&boxes) {
+        let (lo, hi) = (b.min().to_array(), b.max().to_array());
+        let o = origin.to_array();
+        let [x0, y0, z0] = [0, 1, 2].map(|k| below(lo[k], o[k]));
+        let [x1, y1, z1] = [0, 1, 2].map(|k| above(hi[k], o[k]));
         let (min, max) = (
             Vec4::new(x0, y0, z0, f32::from_bits(index)),
             Vec4::new(x1, y1, z1, 0.0),
@@ -131,6 +151,7 @@ pub(super) fn build<T: Hittable>(mut objects: Vec<T>) -> Bvh<T> {
         order,
         bounded: prims.len(),
         pairs,
+        origin,
         bbox,
     }
 }
@@ -398,14 +419,29 @@ fn permute<T>(objects: &mut [T], order: &[u32]) {
     }
 }
 
-/// The largest `f32` at or below `x`: a box stored in `f32` still contains its `f64`
-/// original.
+/// An `f32` offset `f` from `origin` whose world coordinate, as traversal computes it
+/// (`origin + f` in `f64`, see `traverse::entries`), is at or below `x`: a node box stored
+/// this way still contains the `f64` box it was built from, exactly. Infinite when the
+/// offset is past `f32`'s range (the object then stays out of the tree).
+fn below(x: f64, origin: f64) -> f32 {
+    let mut f = round_down(x - origin);
+    // `x - origin` and `origin + f` both round; step down by at least an ulp of each until
+    // the sum lands at or below `x` (one or two steps).
+    let mut step = f64::from(f32::EPSILON) * f64::from(f.abs()) + 2.0 * f64::EPSILON * origin.abs();
+    while f.is_finite() && origin + f64::from(f) > x {
+        f = round_down(f64::from(f) - step);
+        step *= 2.0;
+    }
+    f
+}
+
+/// As [`below`], at or above `x`.
+fn above(x: f64, origin: f64) -> f32 {
+    -below(-x, -origin)
+}
+
+/// The largest `f32` at or below `x`.
 fn round_down(x: f64) -> f32 {
     let f = x as f32;
     if f64::from(f) > x { f.next_down() } else { f }
-}
-
-/// The smallest `f32` at or above `x`.
-fn round_up(x: f64) -> f32 {
-    -round_down(-x)
 }

@@ -6,14 +6,17 @@ mod traverse;
 
 use alloc::vec::Vec;
 
+use glam::DVec3;
+
 use crate::{Aabb, HitRecord, Hittable, Interval, PdfHittable, Ray};
 
 /// Deepest a tree gets; the traversal stack has this many entries. The build switches to
 /// median splits (which halve the count) well before it: see `build::MEDIAN_FROM_DEPTH`.
 const MAX_DEPTH: usize = 64;
 
-/// Two sibling nodes, tested together, in one 64-byte cache line: their boxes in `f32`
-/// (rounded outward, so they still hold everything they must), axis by axis so that both
+/// Two sibling nodes, tested together, in one 64-byte cache line: their boxes in `f32`,
+/// relative to the tree's `origin` (rounded outward, so they still hold everything they
+/// must, and as precise at 1e9 from the world's origin as at it), axis by axis so that both
 /// are tested in the same instructions, and for each either two children (`count == 0`,
 /// `index` the pair that holds them) or a leaf (`count` objects from `index`). The root is
 /// child 0 of pair 0, beside an empty box.
@@ -60,6 +63,8 @@ pub struct Bvh<T> {
     bounded: usize,
     /// Empty when no object is in the tree.
     pairs: Vec<Pair>,
+    /// What the nodes' bounds are relative to: the centre of the bounded objects' box.
+    origin: DVec3,
     bbox: Aabb,
 }
 

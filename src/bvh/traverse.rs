@@ -5,11 +5,14 @@ use crate::aabb::{BoxRay, slab_spans};
 use crate::{Hittable, Interval, Ray};
 
 /// Where the ray enters each of the two siblings within `ray_t` (`+inf`: it misses), by
-/// the crate's one box test.
+/// the crate's one box test, on the world-space bounds `origin + offset` (in `f64`, as the
+/// build rounded them): every shape's own box test on the same ray runs the same
+/// arithmetic on a box inside these, so a node never misses a ray its shapes' boxes take.
 #[inline(always)]
-fn entries(pair: &Pair, ray: &BoxRay, ray_t: Interval) -> [f64; 2] {
-    let widen = |axes: &[[f32; 2]; 3]| axes.map(|lanes| lanes.map(f64::from));
-    slab_spans(widen(&pair.min), widen(&pair.max), ray, ray_t).0
+fn entries(pair: &Pair, origin: &[f64; 3], ray: &BoxRay, ray_t: Interval) -> [f64; 2] {
+    let world =
+        |axes: &[[f32; 2]; 3]| core::array::from_fn(|k| axes[k].map(|f| origin[k] + f64::from(f)));
+    slab_spans(world(&pair.min), world(&pair.max), ray, ray_t).0
 }
 
 impl<T: Hittable> Bvh<T> {
@@ -35,6 +38,7 @@ impl<T: Hittable> Bvh<T> {
             return;
         }
         let ray = BoxRay::new(ray);
+        let origin = self.origin.to_array();
         // Pending nodes as (index, count, entry distance); at most one per level above the
         // current node, and the build keeps the depth below MAX_DEPTH.
         let mut stack = [(0u32, 0u32, 0.0f64); MAX_DEPTH];
@@ -44,7 +48,7 @@ impl<T: Hittable> Bvh<T> {
         loop {
             if count == 0 {
                 let pair = &self.pairs[index as usize];
-                let [ta, tb] = entries(pair, &ray, Interval::new(ray_t.min, *t_max));
+                let [ta, tb] = entries(pair, &origin, &ray, Interval::new(ray_t.min, *t_max));
                 let (a, b) = (
                     (pair.index[0], pair.count[0]),
                     (pair.index[1], pair.count[1]),
