@@ -71,16 +71,28 @@ impl Aabb {
         Self { min, max }
     }
 
-    /// The smallest box (padded) containing every point; [`Aabb::EMPTY`] for none.
+    /// The smallest box (padded) containing every point; [`Aabb::EMPTY`] for none. As for
+    /// [`Aabb::new`], a NaN coordinate makes its axis unbounded.
+    ///
+    /// ```
+    /// use hitkit::{glam::DVec3, Aabb};
+    /// let b = Aabb::from_points(&[DVec3::Z, DVec3::new(0.0, 0.0, f64::NAN), DVec3::ZERO]);
+    /// assert!(b.contains(DVec3::Z) && b.max().z == f64::INFINITY);
+    /// ```
     #[must_use]
     pub fn from_points(points: &[DVec3]) -> Self {
         match points.split_first() {
             None => Self::EMPTY,
             Some((first, rest)) => {
-                let (lo, hi) = rest
+                let (lo, hi, nan) = rest
                     .iter()
-                    .fold((*first, *first), |(lo, hi), p| (lo.min(*p), hi.max(*p)));
-                Self::new(lo, hi)
+                    .fold((*first, *first, first.is_nan_mask()), |(lo, hi, nan), p| {
+                        (lo.min(*p), hi.max(*p), nan | p.is_nan_mask())
+                    });
+                Self::new(
+                    DVec3::select(nan, DVec3::NAN, lo),
+                    DVec3::select(nan, DVec3::NAN, hi),
+                )
             }
         }
     }

@@ -226,10 +226,12 @@ impl<T: PdfHittable> PdfHittable for [T] {
         if self.is_empty() {
             return 0.0;
         }
+        // Each density divided first: the sum of the quotients cannot overflow, as the sum
+        // of densities near f64::MAX can.
+        let n = self.len() as f64;
         self.iter()
-            .map(|light| light.pdf_value(origin, direction))
+            .map(|light| light.pdf_value(origin, direction) / n)
             .sum::<f64>()
-            / self.len() as f64
     }
 
     fn sample_direction(&self, origin: DVec3, u: DVec2) -> DVec3 {

@@ -363,15 +363,10 @@ impl Plane {
     /// `alpha` and `beta`, and their final rounding to `f64` adds `u_r` of themselves.
     pub(crate) fn refine(&self, ray: &Ray) -> Option<(PlaneHit, CrossingRegion)> {
         let (q, o, d) = (self.q, ray.origin, ray.direction);
-        let a = [
-            Dd::diff(q.x, o.x),
-            Dd::diff(q.y, o.y),
-            Dd::diff(q.z, o.z),
-        ];
+        let a = [Dd::diff(q.x, o.x), Dd::diff(q.y, o.y), Dd::diff(q.z, o.z)];
         let (u, v) = (self.u, self.v);
-        let cross = |a0: f64, b0: f64, a1: f64, b1: f64| {
-            Dd::product(a0, b0).add(Dd::product(a1, b1).neg())
-        };
+        let cross =
+            |a0: f64, b0: f64, a1: f64, b1: f64| Dd::product(a0, b0).add(Dd::product(a1, b1).neg());
         let n = [
             cross(u.y, v.z, u.z, v.y),
             cross(u.z, v.x, u.x, v.z),
@@ -398,7 +393,11 @@ impl Plane {
         let l1 = |x: [Dd; 3]| x[0].hi.abs() + x[1].hi.abs() + x[2].hi.abs();
         let n1 = l1(n);
         let d1 = d.abs().element_sum();
-        let (a, b, big_p) = (l1(a), hit.t.abs() * d1, l1(p.map(|x| Dd { hi: x.hi, lo: 0.0 })));
+        let (a, b, big_p) = (
+            l1(a),
+            hit.t.abs() * d1,
+            l1(p.map(|x| Dd { hi: x.hi, lo: 0.0 })),
+        );
         // The height gained per unit of t is |n.d| / |n|_2, at least |den| / |n|_1.
         let c = den.hi.abs() / n1;
         let tilt = k * (1.0 + self.frame_error / gamma(2));
@@ -467,8 +466,12 @@ impl Plane {
     pub fn hit_record(&self, ray: &Ray, hit: PlaneHit, uv: DVec2) -> Option<HitRecord> {
         let (au, bv) = (hit.alpha * self.u, hit.beta * self.v);
         let point = self.q + (au + bv);
-        // Two products, one sum, one more sum: gamma(3) of the summed magnitudes.
-        let point_error = gamma(3) * (self.q.abs() + au.abs() + bv.abs());
+        // Two products, one sum, one more sum: gamma(3) of the summed magnitudes. And the
+        // point is on the exact plane, which the computed normal (that `intersect` and
+        // `spawn_ray` go by) is tilted from by up to the frame error: at `au + bv` from `q`,
+        // a height of that times `|au + bv|`, which every coordinate's bound covers.
+        let tilt = self.frame_error * (au.abs() + bv.abs()).element_sum();
+        let point_error = gamma(3) * (self.q.abs() + au.abs() + bv.abs()) + DVec3::splat(tilt);
         (point.is_finite() && point_error.is_finite()).then(|| {
             HitRecord::new(
                 ray,

@@ -1,8 +1,8 @@
 use glam::DVec3;
 
 use crate::{
-    Aabb, GeometryError, HitRecord, Hittable, Interior, Interval, MaterialId, Meets,
-    Parallelogram, Plane, PlaneHit, Ray, Sampling,
+    Aabb, GeometryError, HitRecord, Hittable, Interior, Interval, MaterialId, Meets, Parallelogram,
+    Plane, PlaneHit, Ray, Sampling,
 };
 
 /// A planar shape: a [`Plane`] finds `(t, alpha, beta)`, an [`Interior`] predicate decides

@@ -240,13 +240,25 @@ impl<S: SampleInterior> PdfHittable for Quad<S> {
     /// it: [`pdf_value`](PdfHittable::pdf_value) is then 0 for that direction, and a renderer
     /// should count the sample as failed rather than divide by it.
     fn sample_direction(&self, origin: DVec3, u: DVec2) -> DVec3 {
+        if !origin.is_finite() {
+            return DVec3::ZERO; // no direction from nowhere; it hits nothing
+        }
         let u = u.clamp(DVec2::ZERO, DVec2::ONE);
         if let Some(view) = self.spherical(origin) {
             return view.sample(self.plane(), origin, u);
         }
         let at = self.shape().sample(u);
         let plane = self.plane();
-        (plane.q() - origin) + (at.x * plane.u() + at.y * plane.v())
+        let toward =
+            |k: f64| (k * plane.q() - k * origin) + (k * at.x * plane.u() + k * at.y * plane.v());
+        let direction = toward(1.0);
+        // Where the difference overflows, a quarter of every term does not (four terms of at
+        // most f64::MAX / 4), and points the same way.
+        if direction.is_finite() {
+            direction
+        } else {
+            toward(0.25)
+        }
     }
 }
 

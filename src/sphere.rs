@@ -84,6 +84,14 @@ impl Sphere {
     /// nearly equal numbers (Ray Tracing Gems, chapter 7).
     #[must_use]
     pub fn roots(&self, ray: &Ray) -> Option<(f64, f64)> {
+        self.solve(ray).map(|(near, far, ..)| (near, far))
+    }
+
+    /// The roots, nearer first, the vector from the centre to the ray's point closest to
+    /// it, and half the chord in units of `t` (`sqrt(discriminant / d.d)`): the point of a
+    /// root is the closest point moved by minus (near) or plus (far) that along `d`, a form
+    /// that stays accurate where `o + t d` cancels (a ray from far away).
+    fn solve(&self, ray: &Ray) -> Option<(f64, f64, DVec3, f64)> {
         let f = ray.origin - self.center;
         let d = ray.direction;
         let a = d.dot(d);
@@ -98,7 +106,9 @@ impl Sphere {
         let q = -(b + b.signum() * sqrt(a * discriminant));
         let (t0, t1) = (c / q, q / a);
         let (near, far) = if t0 <= t1 { (t0, t1) } else { (t1, t0) };
-        (near.is_finite() && far.is_finite()).then_some((near, far))
+        let half_chord = sqrt(discriminant / a);
+        (near.is_finite() && far.is_finite() && half_chord.is_finite())
+            .then_some((near, far, closest, half_chord))
     }
 }
 
@@ -107,17 +117,23 @@ impl Hittable for Sphere {
         if !ray.is_valid() {
             return None;
         }
-        let (near, far) = self.roots(ray)?;
-        let t = if ray_t.contains(near) {
-            near
+        let (near, far, closest, half_chord) = self.solve(ray)?;
+        let (t, along) = if ray_t.contains(near) {
+            (near, -half_chord)
         } else if ray_t.contains(far) {
-            far
+            (far, half_chord)
         } else {
             return None;
         };
         // Reprojected onto the sphere (pbrt-v4): the point is then the centre plus a radius
-        // along a unit vector, off the surface by a few roundings of its coordinates.
-        let (outward, _) = unit_and_length((ray.origin - self.center) + t * ray.direction);
+        // along a unit vector, off the surface by a few roundings of its coordinates. The
+        // vector comes from the closest point and the half chord, not from `o + t d`, which
+        // cancels to nothing for a ray from far away.
+        let (outward, length) = unit_and_length(closest + along * ray.direction);
+        if !(length > 0.0 && outward.is_finite()) {
+            return None;
+        }
+        let t = self.bounding_box().clamp_hit(ray, ray_t, t)?;
         let offset = self.radius * outward;
         let point = self.center + offset;
         let point_error = gamma(5) * (self.center.abs() + offset.abs());

@@ -100,7 +100,12 @@ impl<T: Hittable> Transformed<T> {
                 what: "translation",
             });
         }
-        let bbox = world_box(&object.bounding_box(), &rotation, translation);
+        let object_box = object.bounding_box();
+        let bbox = world_box(&object_box, &rotation, translation);
+        if object_box.is_bounded() && !bbox.is_bounded() {
+            // Moved past f64's range.
+            return Err(GeometryError::OutOfRange);
+        }
         Ok(Self {
             object,
             rotation,
@@ -191,8 +196,12 @@ fn world_box(bbox: &Aabb, rotation: &DMat3, translation: DVec3) -> Aabb {
 impl<T: Hittable> Hittable for Transformed<T> {
     #[inline]
     fn hit(&self, ray: &Ray, ray_t: Interval) -> Option<HitRecord> {
-        let hit = self.object.hit(&self.ray_to_object(ray), ray_t)?;
-        Some(self.hit_to_world(hit))
+        let mut hit = self.hit_to_world(self.object.hit(&self.ray_to_object(ray), ray_t)?);
+        // The object kept its t within its own box along the moved ray; in world space the
+        // rounding of moving the ray may put it past the moved box, which contains the
+        // object's: back onto it, so that a Bvh of moved objects finds what a loop finds.
+        hit.t = self.bbox.clamp_hit(ray, ray_t, hit.t)?;
+        (hit.point.is_finite() && hit.point_error.is_finite()).then_some(hit)
     }
 
     /// The box of the object's box moved, grown by the rounding of moving it;
@@ -219,9 +228,21 @@ impl<T: PdfHittable> PdfHittable for Transformed<T> {
 
     #[inline]
     fn sample_direction(&self, origin: DVec3, u: DVec2) -> DVec3 {
-        self.rotation
-            * self
-                .object
-                .sample_direction(self.point_to_object(origin), u)
+        let local = self
+            .object
+            .sample_direction(self.point_to_object(origin), u);
+        let direction = self.rotation * local;
+        if direction.is_finite() {
+            direction
+        } else {
+            // A rotation can lengthen a component by up to sqrt(3): a quarter of a finite
+            // direction turns without overflow, and points the same way.
+            let quarter = self.rotation * (0.25 * local);
+            if quarter.is_finite() {
+                quarter
+            } else {
+                DVec3::ZERO
+            }
+        }
     }
 }

@@ -40,7 +40,9 @@
 mod support;
 
 use hitkit::glam::{DQuat, DVec2, DVec3};
-use hitkit::{CrossingRegion, Disk, Hittable, Interval, Parallelogram, Plane, Quad, Ray, Ring, Triangle};
+use hitkit::{
+    CrossingRegion, Disk, Hittable, Interval, Parallelogram, Plane, Quad, Ray, Ring, Triangle,
+};
 use proptest::prelude::*;
 use support::gamma;
 
