@@ -102,7 +102,11 @@ impl HitRecord {
                 origin[axis] = origin[axis].next_down();
             }
         }
-        Ray::new(origin, direction)
+        // Near the end of the range, the origin stays finite (at the end of it).
+        Ray::new(
+            origin.clamp(DVec3::splat(f64::MIN), DVec3::splat(f64::MAX)),
+            direction,
+        )
     }
 }
 

@@ -1,6 +1,6 @@
 use glam::{DVec2, DVec3};
 
-use crate::math::{Dd, UNIT_ROUNDOFF, gamma, power_of_two_scale, unit_and_length};
+use crate::math::{Dd, UNIT_ROUNDOFF, gamma, power_of_two_scale, sqrt, unit_and_length};
 use crate::{Aabb, GeometryError, HitRecord, Hittable, Interval, MaterialId, Ray};
 
 /// The plane's [`tolerance`](Plane::tolerance), relative to its corners' magnitude: 2^-48.
@@ -51,6 +51,8 @@ pub struct Plane {
     frame_error: f64,
     /// The world-space distance shapes on this plane are widened by ([`Plane::tolerance`]).
     tolerance: f64,
+    /// `|u|_1 + |v|_1`: how far from `q` the points of the built-in shapes lie, at most.
+    extent: f64,
     material: MaterialId,
 }
 
@@ -69,7 +71,8 @@ pub struct Plane {
 /// shapes that share an edge leave no crack, and nothing beside a shape is hit.
 ///
 /// Both also hold the plane's [`tolerance`](Plane::tolerance), the world-space width by
-/// which shapes widen to close the gaps that separately rounded corners leave.
+/// which shapes widen to close the gaps that separately rounded corners leave: across, and
+/// along the ray as far as it takes the ray to rise by it.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct CrossingRegion {
     /// The computed crossing.
@@ -144,7 +147,11 @@ impl Plane {
         // Every corner (or a disk's extreme point) is q + (+-1 or 0) u + (+-1 or 0) v.
         let magnitude = q.abs().max_element() + u.abs().max_element() + v.abs().max_element();
         let tolerance = TOLERANCE * magnitude;
-        if !(coordinate_scale.is_finite() && frame_error.is_finite() && tolerance.is_finite()) {
+        if !(coordinate_scale.is_finite()
+            && frame_error.is_finite()
+            && tolerance.is_finite()
+            && (l1(u) + l1(v)).is_finite())
+        {
             return Err(GeometryError::OutOfRange);
         }
         Ok(Self {
@@ -157,6 +164,7 @@ impl Plane {
             coordinate_scale,
             frame_error,
             tolerance,
+            extent: l1(u) + l1(v),
             material: MaterialId::default(),
         })
     }
@@ -263,24 +271,29 @@ impl Plane {
     ///
     /// Derivation (first order in the unit roundoff `u_r`; `|.|_1` bounds the Euclidean
     /// norm from above). With `a = |q - o|_1`, `b = |t| |d|_1`, `P = |p|_1` for the computed
-    /// `p = t d - (q - o)` and `c = |n.d|`:
+    /// `p = t d - (q - o)`, `c = |n.d|`, and `e` the relative error of the computed frame
+    /// (`v x w` and `w x u` carry `2 gamma(2) (1 + 1/s) + 2 u_r`, `s` the sine between `u`
+    /// and `v`; the computed normal is tilted by less):
     /// - `p` is within `gamma(2) (a + b)` of the exact point of the ray at this `t`, in any
-    ///   direction (three roundings per coordinate), and `alpha = p.(v x w)` adds the
-    ///   dot product's `gamma(3) P` and the frame's relative error (`v x w` carries
-    ///   `2 gamma(2) (1 + 1/s) + 2 u_r`, `s` the sine between `u` and `v`) times `P`. These
-    ///   do not depend on the angle of the ray: they make `radius`.
+    ///   direction (three roundings per coordinate), and `alpha = p.(v x w)` adds the dot
+    ///   product's `gamma(3) P`. These do not depend on the angle of the ray: `radius`.
+    /// - The frame's error is a fixed linear map, applied alike to the centre and to `along`:
+    ///   it moves the whole segment, by at most `e (|u|_1 + |v|_1)` where it matters, at
+    ///   points of the shape (every built-in interior lies within `|alpha u + beta v|_1 <=
+    ///   |u|_1 + |v|_1`). That joins `radius` too.
     /// - `t = n.(q - o) / n.d` errs by `gamma(4) a` in the numerator and `gamma(3) |d|_1` in
-    ///   the denominator, and the computed normal is tilted by up to the frame error `e`,
-    ///   which puts the exact crossing up to `e (P + |t* - t| |d|_1)` above the plane the
-    ///   computed `t` belongs to. Solved for `|t* - t|`:
-    ///   `(gamma(4) a + gamma(3) b + e P) / (c - (gamma(3) + e) |d|_1) + gamma(2) |t|`, infinite
-    ///   when the ray is within that angle of parallel: `reach`, along the ray.
-    /// - `along` is computed with the same frame error, so over the reach the segment may
-    ///   drift sideways by `reach |d|_1 (e + gamma(3))`, which joins `radius`.
+    ///   the denominator, and the tilt of the computed normal puts the exact crossing up to
+    ///   `e (P + |t* - t| |d|_1)` above the plane the computed `t` belongs to. Solved for
+    ///   `|t* - t|`: `(gamma(4) a + gamma(3) b + e P) / (c - (gamma(3) + e) |d|_1) + gamma(2) |t|`,
+    ///   infinite when the ray is within that angle of parallel: `reach`, along the ray.
+    /// - `along = (d.(v x w), d.(w x u))` rounds by `gamma(3) |d|_1` per coordinate: over
+    ///   the reach, a sideways drift of `reach gamma(3) |d|_1`, which joins `radius`.
     ///
-    /// The plane's [`tolerance`](Plane::tolerance) `T` joins both: `radius` grows by `T`, and
-    /// `reach` by `T / c`, so that a shape meeting the region comes within `T` (plus the
-    /// rounding above) of the ray, measured in world space.
+    /// The plane's [`tolerance`](Plane::tolerance) `T` joins `radius`, and `reach` as `T / c`
+    /// (for slopes down to 2^-52): shapes meeting the region are then met by the ray to
+    /// within `T` in world space, whether their neighbours' rounding left the gap between
+    /// them in the plane or across it (coplanar tiles whose planes differ by a fraction of
+    /// an ulp in height leave a gap of that height over the slope, for a grazing ray).
     ///
     /// ```
     /// use hitkit::{glam::DVec3, Interval, Plane, Ray};
@@ -307,43 +320,51 @@ impl Plane {
         let across = gamma(2) * (a + b);
         let slack = c - (gamma(3) + e) * d1;
         let reach = if slack > 0.0 {
-            (gamma(4) * a + gamma(3) * b + e * (big_p + across) + self.tolerance) / slack
+            (gamma(4) * a + gamma(3) * b + e * (big_p + across)) / slack
                 + gamma(2) * hit.t.abs() * (c / slack)
+                + self.tolerance_along(slack, d1)
         } else {
             f64::INFINITY
         };
-        let world = across + big_p * (gamma(3) + e) + self.tolerance;
-        self.region(hit, ray.direction, reach, world, e + gamma(3), 0.0)
+        let along = DVec2::new(
+            ray.direction.dot(self.to_alpha),
+            ray.direction.dot(self.to_beta),
+        );
+        let drift = if reach < f64::INFINITY {
+            reach * gamma(3) * d1
+        } else {
+            f64::INFINITY
+        };
+        let world = across + gamma(3) * big_p + self.frame_reach() + self.tolerance + drift;
+        self.region(hit, along, reach, world * self.coordinate_scale)
     }
 
-    /// A region for the crossing `hit`, from the bounds the two ways of computing it share:
-    /// `reach` along the ray (in units of `t`), `world` across it (a world-space distance),
-    /// `along_error` the relative error of `along`, and `rounded` the error of `alpha` and
-    /// `beta` that is relative to themselves. Each bound is enlarged by `gamma(16)` for the
-    /// rounding of its own evaluation.
-    fn region(
-        &self,
-        hit: &PlaneHit,
-        direction: DVec3,
-        reach: f64,
-        world: f64,
-        along_error: f64,
-        rounded: f64,
-    ) -> CrossingRegion {
-        let d1 = direction.abs().element_sum();
-        let along = DVec2::new(direction.dot(self.to_alpha), direction.dot(self.to_beta));
-        let drift = if reach < f64::INFINITY {
-            reach * d1 * along_error
-        } else {
-            f64::INFINITY
-        };
-        let center = DVec2::new(hit.alpha, hit.beta);
+    /// The tolerance along the ray, in units of `t`: as far as the ray goes while its
+    /// height over the plane changes by the tolerance, at `rate` of height per unit of `t`.
+    /// Below a slope of 2^-52 (a ray within an ulp's angle of parallel) it stops growing,
+    /// so that the rounding of `along` over it stays within the tolerance too.
+    #[inline]
+    fn tolerance_along(&self, rate: f64, d1: f64) -> f64 {
+        self.tolerance / rate.max(d1 * f64::EPSILON)
+    }
+
+    /// How far the frame's own error moves the crossing of a point of a shape: `e` times
+    /// `|u|_1 + |v|_1` (see [`Plane::crossing_region`]).
+    #[inline]
+    fn frame_reach(&self) -> f64 {
+        self.frame_error * self.extent
+    }
+
+    /// A region for the crossing `hit` with bounds `reach` (in units of `t`) and `radius`
+    /// (in `alpha` and `beta`), each enlarged by `gamma(16)` for the rounding of its own
+    /// evaluation.
+    fn region(&self, hit: &PlaneHit, along: DVec2, reach: f64, radius: DVec2) -> CrossingRegion {
         let grow = 1.0 + gamma(16);
         CrossingRegion {
-            center,
+            center: DVec2::new(hit.alpha, hit.beta),
             along,
             reach: reach * grow,
-            radius: ((world + drift) * self.coordinate_scale + rounded * center.abs()) * grow,
+            radius: radius * grow,
         }
     }
 
@@ -391,32 +412,45 @@ impl Plane {
 
         let k = 256.0 * UNIT_ROUNDOFF * UNIT_ROUNDOFF;
         let l1 = |x: [Dd; 3]| x[0].hi.abs() + x[1].hi.abs() + x[2].hi.abs();
-        let n1 = l1(n);
         let d1 = d.abs().element_sum();
         let (a, b, big_p) = (
             l1(a),
             hit.t.abs() * d1,
             l1(p.map(|x| Dd { hi: x.hi, lo: 0.0 })),
         );
-        // The height gained per unit of t is |n.d| / |n|_2, at least |den| / |n|_1.
-        let c = den.hi.abs() / n1;
+        // The height gained per unit of t is |n.d| / |n|_2; an upper bound of |n|_2 (the
+        // low parts are below 2 u_r of the high ones) makes c a lower bound of it, and the
+        // f64 region's `c` to within a few u_r: this reach is no larger than that one's
+        // (`Quad::hit` relies on it).
+        let n2 = sqrt(n[0].hi * n[0].hi + n[1].hi * n[1].hi + n[2].hi * n[2].hi) * (1.0 + gamma(4));
+        let c = den.hi.abs() / n2;
         let tilt = k * (1.0 + self.frame_error / gamma(2));
         let across = k * (a + b);
         let slack = c - (k + tilt) * d1;
         let reach = if slack > 0.0 {
-            (k * (a + b) + tilt * (big_p + across) + self.tolerance) / slack + k * hit.t.abs()
+            (k * (a + b) + tilt * (big_p + across)) / slack
+                + k * hit.t.abs()
+                + self.tolerance_along(slack, d1)
         } else {
             f64::INFINITY
         };
-        let world = across + big_p * (k + self.frame_error) + self.tolerance;
-        let region = self.region(
-            &hit,
-            d,
-            reach,
-            world,
-            self.frame_error + gamma(3),
-            UNIT_ROUNDOFF,
+        // `along` in double-double too, then rounded: its error is `u_r` of itself (plus
+        // `K` of the magnitudes), so that its drift over the reach stays within the
+        // tolerance (see `tolerance_along`).
+        let d_dd = [d.x, d.y, d.z].map(|x| Dd { hi: x, lo: 0.0 });
+        let along = DVec2::new(
+            Dd::dot(d_dd, self.to_alpha).hi,
+            Dd::dot(d_dd, self.to_beta).hi,
         );
+        let (drift_world, drift) = if reach < f64::INFINITY {
+            (reach * k * d1, reach * UNIT_ROUNDOFF * along.abs())
+        } else {
+            (f64::INFINITY, DVec2::INFINITY)
+        };
+        let world = across + k * big_p + self.frame_reach() + self.tolerance + drift_world;
+        let center = DVec2::new(hit.alpha, hit.beta);
+        let radius = world * self.coordinate_scale + UNIT_ROUNDOFF * center.abs() + drift;
+        let region = self.region(&hit, along, reach, radius);
         let finite = hit.t.is_finite()
             && hit.alpha.is_finite()
             && hit.beta.is_finite()
@@ -490,8 +524,15 @@ impl Hittable for Plane {
     /// `uv` is `(alpha, beta)`, unbounded.
     #[inline]
     fn hit(&self, ray: &Ray, ray_t: Interval) -> Option<HitRecord> {
-        let mut hit = self.intersect(ray, ray_t)?;
-        hit.t = self.bounding_box().clamp_hit(ray, ray_t, hit.t)?;
+        // As for a quad: t kept in the box's span along the whole ray, then compared with
+        // ray_t, so that it never depends on ray_t.max.
+        let mut hit = self.intersect(ray, Interval::new(ray_t.min, f64::INFINITY))?;
+        hit.t = self
+            .bounding_box()
+            .clamp_hit(ray, Interval::UNIVERSE, hit.t)?;
+        if !ray_t.contains(hit.t) {
+            return None;
+        }
         self.hit_record(ray, hit, DVec2::new(hit.alpha, hit.beta))
     }
 

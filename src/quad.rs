@@ -126,11 +126,20 @@ fn reach_beyond(plane: &Plane) -> f64 {
 }
 
 impl<S: Interior> Hittable for Quad<S> {
+    /// The reported `t` depends on the ray alone, never on `ray_t.max` (which a `Bvh` or a
+    /// list lowers as it finds hits): it is decided, moved into the box's span along the
+    /// whole ray, and only then compared with `ray_t`.
     #[inline]
     fn hit(&self, ray: &Ray, ray_t: Interval) -> Option<HitRecord> {
         let plane = &self.plane;
-        let mut hit = plane.intersect(ray, ray_t)?;
-        match self.shape.meets(&plane.crossing_region(ray, &hit)) {
+        let mut hit = plane.intersect(ray, Interval::new(ray_t.min, f64::INFINITY))?;
+        let region = plane.crossing_region(ray, &hit);
+        // Whatever the decision below, the reported t is at least t - 3 reach (the refined
+        // crossing's own reach is no larger than this one's): past ray_t.max, no hit.
+        if hit.t - 3.0 * region.reach > ray_t.max {
+            return None;
+        }
+        match self.shape.meets(&region) {
             Meets::Inside => {}
             Meets::Outside => return None,
             // Rounding in f64 cannot tell: ask again of the double-double crossing, whose
@@ -149,14 +158,14 @@ impl<S: Interior> Hittable for Quad<S> {
                     }
                     Meets::Outside => return None,
                 };
-                if !ray_t.contains(hit.t) {
-                    return None;
-                }
             }
         }
         // A t that rounding put before or past the box moves onto it, so that a Bvh (whose
         // boxes contain this one) finds every hit a loop over the shapes finds.
-        hit.t = self.bbox.clamp_hit(ray, ray_t, hit.t)?;
+        hit.t = self.bbox.clamp_hit(ray, Interval::UNIVERSE, hit.t)?;
+        if !ray_t.contains(hit.t) {
+            return None;
+        }
         plane.hit_record(ray, hit, self.shape.uv(hit.alpha, hit.beta))
     }
 

@@ -118,6 +118,13 @@ impl Hittable for Sphere {
             return None;
         }
         let (near, far, closest, half_chord) = self.solve(ray)?;
+        // Each root kept in the box's span along the whole ray (so that a Bvh finds what a
+        // loop finds), then the first in range.
+        let bbox = self.bounding_box();
+        let (near, far) = (
+            bbox.clamp_hit(ray, Interval::UNIVERSE, near)?,
+            bbox.clamp_hit(ray, Interval::UNIVERSE, far)?,
+        );
         let (t, along) = if ray_t.contains(near) {
             (near, -half_chord)
         } else if ray_t.contains(far) {
@@ -133,7 +140,6 @@ impl Hittable for Sphere {
         if !(length > 0.0 && outward.is_finite()) {
             return None;
         }
-        let t = self.bounding_box().clamp_hit(ray, ray_t, t)?;
         let offset = self.radius * outward;
         let point = self.center + offset;
         let point_error = gamma(5) * (self.center.abs() + offset.abs());
@@ -187,6 +193,9 @@ impl PdfHittable for Sphere {
     /// A direction uniformly distributed in the cone the sphere subtends from `origin`
     /// (uniform over the sphere of directions from inside).
     fn sample_direction(&self, origin: DVec3, u: DVec2) -> DVec3 {
+        if !origin.is_finite() {
+            return DVec3::ZERO; // no direction from nowhere; it hits nothing
+        }
         let u = u.clamp(DVec2::ZERO, DVec2::ONE);
         let (axis, one_minus_cos) = self.cone(origin).unwrap_or((DVec3::Z, 2.0));
         let one_minus = u.x * one_minus_cos;
