@@ -3,7 +3,13 @@ use glam::{DVec2, DVec3};
 use crate::math::{Dd, UNIT_ROUNDOFF, gamma, power_of_two_scale, sqrt, unit_and_length};
 use crate::{Aabb, GeometryError, HitRecord, Hittable, Interval, MaterialId, Ray};
 
-/// The plane's [`tolerance`](Plane::tolerance), relative to its corners' magnitude: 2^-48.
+/// The plane's [`tolerance`](Plane::tolerance), relative to its corners' magnitude `M`:
+/// 2^-48, that is `32 u_r M`. A corner computed as a user computes it, `offset + R * c` (a
+/// product of a matrix and a vector, then a sum) or `q + u`, is off by at most `gamma(4)`
+/// of `|offset_i| + |c|_1` per coordinate; two copies of one corner computed apart differ by
+/// twice that, `sqrt(3)` times that in distance: `8 sqrt(3) u_r` (about `14 u_r`) of a
+/// magnitude that can reach twice `M` (the sum of magnitudes against the largest
+/// coordinate), `28 u_r M` in all, within the tolerance.
 const TOLERANCE: f64 = 1.0 / (1u64 << 48) as f64;
 
 /// Where a ray meets a plane: the ray parameter `t` and the plane coordinates of the point,
@@ -351,7 +357,7 @@ impl Plane {
     /// How far the frame's own error moves the crossing of a point of a shape: `e` times
     /// `|u|_1 + |v|_1` (see [`Plane::crossing_region`]).
     #[inline]
-    fn frame_reach(&self) -> f64 {
+    pub(crate) fn frame_reach(&self) -> f64 {
         self.frame_error * self.extent
     }
 
@@ -457,19 +463,6 @@ impl Plane {
             && region.radius.is_finite()
             && !region.reach.is_nan();
         finite.then_some((hit, region))
-    }
-
-    /// `(|v x w|_1, |w x u|_1)`: the most a world-space distance can be in `alpha` and
-    /// `beta`.
-    #[inline]
-    pub(crate) fn coordinate_scale(&self) -> DVec2 {
-        self.coordinate_scale
-    }
-
-    /// The relative error of the frame that computes `alpha` and `beta`.
-    #[inline]
-    pub(crate) fn frame_error(&self) -> f64 {
-        self.frame_error
     }
 
     /// The world-space distance by which shapes on this plane widen, so that neighbours

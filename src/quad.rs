@@ -1,5 +1,7 @@
 use glam::DVec3;
 
+use crate::math::gamma;
+
 use crate::{
     Aabb, GeometryError, HitRecord, Hittable, Interior, Interval, MaterialId, Meets, Parallelogram,
     Plane, PlaneHit, Ray, Sampling,
@@ -109,20 +111,15 @@ impl<S: Interior> Quad<S> {
     }
 }
 
-/// How far beyond its shape (in world space, per coordinate) a quad can accept a hit: the
-/// widest a double-double [`CrossingRegion`](crate::CrossingRegion) can be across the ray
-/// for a point near the shape, in `alpha` and `beta` units mapped back by `|u|_1` and
-/// `|v|_1`, twice over. The part of such a region along the ray stays within the same
-/// distance of the plane. The box grows by it, so that it holds every hit the shape
-/// reports.
+/// How far the box of a quad reaches beyond its shape, per coordinate: the plane's
+/// [tolerance](Plane::tolerance) and the frame's own error at the shape (a world-space
+/// distance, so per coordinate too), and a few ulps of itself. A ray that passes
+/// within the tolerance of the shape (the widening that closes gaps between neighbours
+/// whose corners were rounded apart, across the ray or along it) meets that box; what the
+/// region's widening in `(alpha, beta)` would accept beyond it (at the acute corners of a
+/// sliver, say) the box cuts off, since every hit is kept within the box's span.
 fn reach_beyond(plane: &Plane) -> f64 {
-    let l1 = |v: DVec3| v.abs().element_sum();
-    let (u1, v1) = (l1(plane.u()), l1(plane.v()));
-    // Points near the shape are within |u|_1 + |v|_1 of q; the frame's relative error
-    // applies to that distance (see `Plane::refine`), and the tolerance joins it.
-    let scale = plane.coordinate_scale();
-    let across = plane.tolerance() + (u1 + v1) * plane.frame_error();
-    2.0 * across * (1.0 + scale.x * u1 + scale.y * v1)
+    (plane.tolerance() + plane.frame_reach()) * (1.0 + gamma(4))
 }
 
 impl<S: Interior> Hittable for Quad<S> {

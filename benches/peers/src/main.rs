@@ -11,6 +11,8 @@ mod scene;
 use std::hint::black_box;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+use std::sync::atomic::AtomicU64;
+use std::sync::atomic::Ordering::Relaxed;
 use std::time::{Duration, Instant};
 
 use hitkit::glam::DVec3;
@@ -36,6 +38,10 @@ Options:
   --side N       camera rays: an N x N grid [default: 1000]
   --runs K       repetitions of every build and trace; the median is reported [default: 3]
   --seed S       seed of the soups (S) and of the incoherent rays (S + 1) [default: 0x5eed]
+  --offsets LIST comma-separated distances to move the first scene by (along a fixed
+                 direction off the axes), empty for none: a second table of Mrays/s and
+                 triangle tests per ray at each [default: 0,1e6,1e9,1e12]
+  --offset-rays N rays per set in that table (camera grid and random) [default: 10000]
   -h, --help     this text";
 
 /// The command line.
@@ -46,6 +52,8 @@ struct Args {
     side: usize,
     runs: usize,
     seed: u64,
+    offsets: Vec<f64>,
+    offset_rays: usize,
 }
 
 /// Parses the arguments after the program name: `Ok(None)` for `--help`.
@@ -57,12 +65,25 @@ fn parse_args(mut args: impl Iterator<Item = String>) -> Result<Option<Args>, St
         side: 1_000,
         runs: 3,
         seed: 0x5eed,
+        offsets: vec![0.0, 1e6, 1e9, 1e12],
+        offset_rays: 10_000,
     };
     while let Some(flag) = args.next() {
         if flag == "--help" || flag == "-h" {
             return Ok(None);
         }
-        if !["--obj", "--soups", "--rays", "--side", "--runs", "--seed"].contains(&flag.as_str()) {
+        if ![
+            "--obj",
+            "--soups",
+            "--rays",
+            "--side",
+            "--runs",
+            "--seed",
+            "--offsets",
+            "--offset-rays",
+        ]
+        .contains(&flag.as_str())
+        {
             return Err(format!("unknown argument `{flag}`"));
         }
         let value = args
@@ -80,6 +101,17 @@ fn parse_args(mut args: impl Iterator<Item = String>) -> Result<Option<Args>, St
             "--rays" => parsed.rays = count(&flag, &value)?,
             "--side" => parsed.side = count(&flag, &value)?,
             "--runs" => parsed.runs = count(&flag, &value)?,
+            "--offsets" if value.is_empty() => parsed.offsets.clear(),
+            "--offsets" => {
+                parsed.offsets = value
+                    .split(',')
+                    .map(|x| match x.trim().parse::<f64>() {
+                        Ok(x) if x.is_finite() && x >= 0.0 => Ok(x),
+                        _ => Err(format!("`{flag}`: `{x}` is not a finite distance >= 0")),
+                    })
+                    .collect::<Result<_, _>>()?;
+            }
+            "--offset-rays" => parsed.offset_rays = count(&flag, &value)?,
             _ => parsed.seed = number(&flag, &value)?,
         }
     }
@@ -467,6 +499,91 @@ fn run_scene(
     (rows, checks, warnings)
 }
 
+/// The direction scenes are moved along (off the axes, so that every coordinate rounds).
+const OFFSET_DIRECTION: DVec3 = DVec3::new(0.8, 0.36, -0.48);
+
+/// hitkit and obvhs (its medium preset) on `tris` moved by each offset: Mrays/s (median of
+/// `runs`) and triangle tests per ray (counted in a separate, untimed pass), for camera and
+/// random rays made from the moved scene's bounds the same way at every offset. Rows of the
+/// second table.
+fn run_offsets(name: &str, tris: &[scene::Tri], args: &Args) -> Vec<String> {
+    let side = (args.offset_rays as f64).sqrt().ceil() as usize;
+    let mut rows = Vec::new();
+    for &offset in &args.offsets {
+        let shift = offset * OFFSET_DIRECTION;
+        let moved: Vec<scene::Tri> = tris.iter().map(|t| t.map(|p| p + shift)).collect();
+        let quads = quads(&moved);
+        let bounds = scene::bounds(&moved);
+        let camera = scene::camera_rays(bounds, side);
+        let random = scene::random_rays(bounds, args.offset_rays, args.seed.wrapping_add(1));
+        let sets: [&[Ray]; 2] = [&camera, &random];
+        eprintln!("{name} at offset {offset:e}");
+
+        // Triangle tests per ray, counted through a second hierarchy over counting shapes.
+        // (Atomic because shapes are Send + Sync; the pass is untimed.)
+        let tests = AtomicU64::new(0);
+        let counted: Vec<Counted> = quads.iter().map(|q| Counted(*q, &tests)).collect();
+        let hitkit_bvh = Bvh::new(counted);
+        let obvhs_boxes: Vec<_> = quads.iter().map(|q| f32_box(&q.bounding_box())).collect();
+        let obvhs_tree = build_cwbvh(
+            &obvhs_boxes,
+            BvhBuildParams::medium_build(),
+            &mut Duration::default(),
+        );
+        let per_ray = |trace: &dyn Fn(&Ray)| {
+            sets.map(|rays| {
+                tests.store(0, Relaxed);
+                rays.iter().for_each(trace);
+                tests.load(Relaxed) as f64 / rays.len() as f64
+            })
+        };
+        let hitkit_tests = per_ray(&|ray| {
+            hitkit_bvh.hit(ray, Interval::new(0.0, f64::INFINITY));
+        });
+        let obvhs_tests = per_ray(&|ray| {
+            let obvhs_ray =
+                obvhs::ray::Ray::new_inf(ray.origin.as_vec3a(), ray.direction.as_vec3a());
+            let mut best = None;
+            obvhs_tree.ray_traverse(obvhs_ray, &mut RayHit::none(), |_, id| {
+                let i = obvhs_tree.primitive_indices[id] as usize;
+                tests.fetch_add(1, Relaxed);
+                closer(&quads[i], i, ray, &mut best).map_or(f32::INFINITY, f32_up)
+            });
+        });
+
+        let timed = [
+            run_hitkit(&quads, args.runs, &sets),
+            run_obvhs(
+                &quads,
+                "medium",
+                BvhBuildParams::medium_build(),
+                args.runs,
+                &sets,
+            ),
+        ];
+        for (m, counts) in timed.iter().zip([hitkit_tests, obvhs_tests]) {
+            rows.push(format!(
+                "| {name} | {offset:.0e} | {} | {:.2} | {:.2} | {:.1} | {:.1} |",
+                m.library, m.sets[0].0, m.sets[1].0, counts[0], counts[1]
+            ));
+        }
+    }
+    rows
+}
+
+/// A triangle that counts its tests, for the offsets table.
+struct Counted<'a>(Quad<Triangle>, &'a AtomicU64);
+
+impl Hittable for Counted<'_> {
+    fn hit(&self, ray: &Ray, ray_t: Interval) -> Option<hitkit::HitRecord> {
+        self.1.fetch_add(1, Relaxed);
+        self.0.hit(ray, ray_t)
+    }
+    fn bounding_box(&self) -> Aabb {
+        self.0.bounding_box()
+    }
+}
+
 fn main() -> ExitCode {
     let args = match parse_args(std::env::args().skip(1)) {
         Ok(Some(args)) => args,
@@ -519,6 +636,25 @@ fn main() -> ExitCode {
     if !warnings.is_empty() {
         println!();
         warnings.iter().for_each(|w| println!("{w}"));
+    }
+    if let Some((name, tris)) = scenes.first().filter(|_| !args.offsets.is_empty()) {
+        let rows = run_offsets(name, tris, &args);
+        println!(
+            "\nThe {name} moved by each offset along {OFFSET_DIRECTION} (every coordinate \
+             rounds); {} camera rays and {} random rays from the moved bounds; Mrays/s median \
+             of {} runs; triangle tests per ray counted in a separate pass:\n",
+            {
+                let side = (args.offset_rays as f64).sqrt().ceil() as usize;
+                side * side
+            },
+            args.offset_rays,
+            args.runs,
+        );
+        println!(
+            "| scene | offset | library | camera Mrays/s | random Mrays/s | camera tests/ray | random tests/ray |"
+        );
+        println!("|---|---:|---|---:|---:|---:|---:|");
+        rows.iter().for_each(|r| println!("{r}"));
     }
     ExitCode::SUCCESS
 }
