@@ -30,10 +30,39 @@
 //!   says whether the ray came from the side `u x v` points to.
 //! - Points on a plane or quad are `q + alpha * u + beta * v`; interior predicates
 //!   ([`Parallelogram`], [`Triangle`], [`Disk`], [`Ring`], or your own) decide in
-//!   `(alpha, beta)` space and include their edges, widened by the rounding-error bound
-//!   of the coordinates so that shapes sharing an edge leave no crack.
+//!   `(alpha, beta)` space and include their edges. The built-in ones decide by the region
+//!   where the ray's exact crossing can be ([`CrossingRegion`], [`Interior::meets`]), so
+//!   that shapes sharing an edge leave no crack and nothing beside a shape is hit.
 //! - Constructors validate their input and return [`GeometryError`]; `hit` on a NaN,
 //!   infinite or zero-direction ray returns `None`. Nothing panics on any `f64` input.
+//!
+//! # The contract
+//! What hitkit promises, for every ray a renderer may trace (any direction, any origin,
+//! grazing or from far away) and every shape it may build (rotated, far from the origin,
+//! from `1e-6` to `1e6` in size); each clause is held by `tests/contract.rs`.
+//!
+//! 1. **No false hits.** Every hit a planar shape reports lies within `2^-43 M / s^2` of the
+//!    exact shape, `M = |q|_inf + |u|_inf + |v|_inf` and `s` the sine of the angle between
+//!    `u` and `v`: a few hundred ulps of its corners' magnitude for a well-shaped quad,
+//!    whatever the angle of the ray. A grazing ray beside a shape is not a hit.
+//! 2. **No leaks.** A ray through an edge shared by two shapes hits one of them, whether
+//!    their shared corners are bitwise equal (meshes, [`Cuboid`], tiles built from `q + u`)
+//!    or were computed apart and rounded differently (the faces of a rotated box built one
+//!    by one in world space): shapes widen by [`Plane::tolerance`], `2^-48 M` in world
+//!    space, which covers such rounding. For rays within `2^-52` radians of parallel to
+//!    the shapes, the widening along the ray stops growing, and sub-ulp steps between
+//!    coplanar neighbours may then let a ray through.
+//! 3. **Boxes agree with shapes.** A shape never reports a hit outside its own
+//!    [`bounding_box`](Hittable::bounding_box)'s span along the ray, and its `t` does not
+//!    depend on the range's upper end: a [`Bvh`] returns exactly what a loop over its
+//!    objects returns, on every ray from any distance.
+//! 4. **No NaN.** Nothing returned (hit record, box, density, direction, spawned ray) is
+//!    NaN or infinite, for any input; bad input is a [`GeometryError`] at construction, and
+//!    a ray that cannot be traced hits nothing.
+//!
+//! And speed does not depend on where a scene sits: a [`Bvh`]'s node boxes are relative to
+//! the scene's centre, so a scene at 1e9 costs the same tests per ray as at the origin (as
+//! long as its shapes are wider than the tolerance, `2^-48` of their coordinates).
 //!
 //! # Features
 //! | feature | default | what it does |

@@ -11,10 +11,16 @@ use crate::{
 /// whether the point belongs to the shape. With the default [`Parallelogram`] it is the
 /// book's quad, with corners `q`, `q + u`, `q + v`, `q + u + v`.
 ///
-/// Edges are inclusive and watertight: the built-in shapes also accept points whose
-/// computed coordinates fall outside by less than their rounding-error bound
-/// ([`Plane::coordinate_error`]), so a ray through an edge shared by two shapes hits at
-/// least one of them. Wrap a shape in [`Exact`](crate::Exact) to test it exactly instead.
+/// Edges are inclusive and watertight. The built-in shapes decide by the region where the
+/// ray's exact crossing with the plane can be ([`Plane::crossing_region`]): narrow across
+/// the ray whatever its angle, long only along it. A shape wholly around the region is hit,
+/// one clear of it is not, and only a ray that passes within rounding of an edge is decided
+/// again, in double-double arithmetic. The shapes also widen by the plane's
+/// [tolerance](Plane::tolerance) (a few ulps of the corners' magnitude, in world space), so
+/// that a ray through an edge shared by two shapes hits one of them even where their
+/// corners were rounded apart; and every hit's `t` lies within the quad's box's span, so a
+/// [`Bvh`](crate::Bvh) finds exactly what a loop finds. See the crate's contract. Wrap a
+/// shape in [`Exact`](crate::Exact) to decide at the computed crossing alone.
 ///
 /// ```
 /// use hitkit::glam::DVec3;
