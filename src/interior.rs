@@ -129,7 +129,7 @@ fn nearest(span: (f64, f64)) -> Option<f64> {
 }
 
 /// The region's radius grown by the rounding of evaluating `center + s along` anywhere on
-/// it (`gamma(2)` of the magnitudes), so that the tests below, which compare such values,
+/// it (`gamma(3)` of the magnitudes), so that the tests below, which compare such values,
 /// stay conservative.
 #[inline]
 fn evaluated_radius(region: &CrossingRegion) -> DVec2 {
