@@ -1,8 +1,9 @@
 //! What each of hitkit's accuracy choices fixes and what it costs, measured in one process
 //! on the same hard-case workloads: the book's quad test, hitkit's well-conditioned plane
-//! test with exact edges, its watertight default, spawned-ray offsets against `t_min`, and
-//! box-test variants. Prints a Markdown table and writes `accuracy.svg` (failures against
-//! cost); then measures the Cornell box's image error against render time.
+//! test with exact edges, 0.1.0's default (widened in `(alpha, beta)`), today's default
+//! (the crossing region), spawned-ray offsets against `t_min`, and box-test variants. Prints
+//! a Markdown table and writes `accuracy.svg` (failures against cost); then measures the
+//! Cornell box's image error against render time.
 //!
 //! `cargo run --release --example accuracy`; `-- --help` lists the options.
 
@@ -16,12 +17,16 @@ mod box_tests;
 mod boxes;
 #[path = "accuracy/degenerate.rs"]
 mod degenerate;
+#[path = "accuracy/distance.rs"]
+mod distance;
 #[path = "accuracy/edges.rs"]
 mod edges;
 #[path = "accuracy/frame.rs"]
 mod frame;
 #[path = "accuracy/geometry.rs"]
 mod geometry;
+#[path = "accuracy/grazing.rs"]
+mod grazing;
 #[path = "accuracy/plot.rs"]
 mod plot;
 #[path = "accuracy/rendering.rs"]
@@ -35,6 +40,8 @@ mod scene;
 mod spawn;
 #[path = "accuracy/tally.rs"]
 mod tally;
+#[path = "accuracy/widened.rs"]
+mod widened;
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -48,8 +55,8 @@ use tally::{Failure, Row, short};
 const REPETITIONS: usize = 7;
 /// The Cornell box's width (and height) in part 2.
 const RENDER_WIDTH: usize = 100;
-/// How many places to list per row and kind of failure.
-const PLACES_SHOWN: usize = 4;
+/// How many parts of the workloads to list per row and kind of failure.
+const PARTS_SHOWN: usize = 6;
 
 /// The command line.
 #[derive(Clone, Debug)]
@@ -105,9 +112,27 @@ fn cell(count: Option<u64>) -> String {
     count.map_or_else(|| "–".to_string(), |n| n.to_string())
 }
 
+/// `first to last` of a list of numbers, as the text prints them.
+fn span(values: &[f64]) -> String {
+    match values {
+        [] => String::new(),
+        [only] => short(*only),
+        [first, .., last] => format!("{} to {}", short(*first), short(*last)),
+    }
+}
+
+/// `10^lo to 10^hi`, as the text prints them.
+fn decades((lo, hi): (f64, f64)) -> String {
+    format!("{} to {}", short(10f64.powf(lo)), short(10f64.powf(hi)))
+}
+
 /// The printed description of the workloads and columns.
 fn print_workloads(workloads: &Workloads, repetitions: usize) {
     let counts = RayCounts::of(workloads);
+    let farthest = edges::PLACEMENTS
+        .iter()
+        .map(|&(offset, _)| offset)
+        .fold(0.0, f64::max);
     println!(
         "Workloads (seed {:#x}, deterministic; every row runs on exactly the same rays):\n",
         frame::SEED
@@ -115,60 +140,141 @@ fn print_workloads(workloads: &Workloads, repetitions: usize) {
     println!(
         "- **edges** ({} rays): a unit box under a random rotation, built in world space as six \
          quads each from its own corner (`q` one of the face's corners, `u` and `v` differences \
-         of corners), at (offset x scale) {}. Corners are `offset + R * local corner` with `R`'s \
-         columns rounded to a power-of-two grid so that every corner is an exact sum: the faces \
-         close exactly (`q + u + v` is the fourth corner). Rays from outside, entering the box, \
-         aimed at points on its edges (`corner + s (other corner - corner)`) and at its corners; \
-         plus rays at the shared edge of two coplanar quads (each built from its far corner) and \
-         at the shared diagonal of two triangles, on the same kind of grid and placements. \
-         **Crack**: the ray hits none of the shapes.",
+         of corners), at (offset x scale) {placements}. Corners are `offset + R * local corner` \
+         with `R`'s columns rounded to a power-of-two grid so that every corner is an exact \
+         sum: the faces close exactly (`q + u + v` is the fourth corner). Rays from {start} \
+         scale units outside, entering the box (cosine at least {inward} with the inward normal \
+         of each face they aim at), aimed at points on its edges (`corner + s (other corner - \
+         corner)`, `s` in [{margin}, {far_margin}]) and at its corners ({} rays); plus rays at \
+         the shared edge of two coplanar quads (each built from its far corner; {} rays) and at \
+         the shared diagonal of two triangles ({} rays), on the same kind of grid and \
+         placements. The same boxes ({} rays) and coplanar pairs ({} rays) again with each \
+         corner computed as `offset + R * local corner` and rounded on its own, as a box built \
+         face by face in world space is: a quad's `q + u + v` then misses the fourth corner by \
+         up to an ulp of the coordinates ({ulp:.1e} at {farthest}). And rays from far away, \
+         {far_distances} scale units, at the same edge and corner points of the exact ({} \
+         rays) and rounded ({} rays) boxes, entering as the near rays do: their origins round \
+         by an ulp of that distance, which can move them off the edge to either side, so each \
+         is aimed {inset} times that rounding (and the target's) inside the box, still within \
+         a few ulps of its edge. **Crack**: the ray hits none of the shapes.",
         counts.edges,
-        geometry::placements()
+        counts.boxes[0],
+        counts.shared[0],
+        counts.shared[2],
+        counts.boxes[1],
+        counts.shared[1],
+        counts.far[0],
+        counts.far[1],
+        placements = geometry::placements(),
+        start = short(edges::START_DISTANCE),
+        inward = edges::INWARD_COSINE,
+        margin = edges::EDGE_MARGIN,
+        far_margin = 1.0 - edges::EDGE_MARGIN,
+        ulp = farthest.next_up() - farthest,
+        farthest = short(farthest),
+        far_distances = decades(edges::FAR_EXPONENTS),
+        inset = short(edges::FAR_INSET),
+    );
+    println!(
+        "- **grazing** ({} rays): at the same placements, {per_kind} parallelograms and \
+         {per_kind} triangles each ({shapes} shapes), built from `(q, u, v)` with `|u|` and \
+         `|v|` of {lo_len} to {hi_len} scale units at {lo_angle} to {hi_angle} degrees to each \
+         other, under a random rotation. Rays aimed at points of the shape's plane outside it \
+         by {outside} scale units (as rounding of the target allows), beside an edge or (one \
+         in {corner}) past a corner: {} arriving along the plane at slopes of {slopes}, from either side, from \
+         {start} scale units before the target; and {} from {far_distances} scale units away, \
+         crossing the plane at a cosine of at least {crossing}. **False hit**: a hit whose \
+         point lies farther from the shape than the contract's bound (below); a ray that \
+         passes within the bound of the shape may hit it.",
+        counts.grazing[0] + counts.grazing[1],
+        counts.grazing[0],
+        counts.grazing[1],
+        per_kind = grazing::SHAPES_PER_KIND,
+        shapes = counts.grazing_shapes,
+        lo_len = grazing::EDGE_LENGTHS.0,
+        hi_len = grazing::EDGE_LENGTHS.1,
+        lo_angle = grazing::UV_ANGLES.0,
+        hi_angle = grazing::UV_ANGLES.1,
+        outside = decades(grazing::OUTSIDE_EXPONENTS),
+        corner = grazing::PAST_CORNER_ONE_IN,
+        slopes = decades((grazing::SLOPE_EXPONENTS.1, grazing::SLOPE_EXPONENTS.0)),
+        start = short(edges::START_DISTANCE),
+        far_distances = decades(edges::FAR_EXPONENTS),
+        crossing = frame::CROSSING_COSINE,
     );
     println!(
         "- **spawn** ({} hits, two spawned rays each): a square quad of size S under a random \
-         rotation, hit from below, and a second one {gap} S above it, at offsets 0 to 1e12 and \
-         sizes 1e-2 to 1e4 (every pair where the gap, {gap} S, is at least 1e-13 of the offset: \
-         hundreds of ulps). From each hit, a random direction back down (should hit nothing) \
-         and one up (should hit the quad above). **Self-hit**: a spawned ray hits the quad it \
-         left; **lost**: the upward ray misses the quad above (or the first hit is missed).",
+         rotation, hit from below, and a second one {gap} S above it, at offsets {offsets} and \
+         sizes {sizes} (every pair where the gap, {gap} S, is at least {min_gap} of the \
+         offset: hundreds of ulps). From each hit, a random direction back down (should hit \
+         nothing) and one up (should hit the quad above). **Self-hit**: a spawned ray hits the \
+         quad it left; **lost**: the upward ray misses the quad above (or the first hit is \
+         missed).",
         counts.spawn,
-        gap = short(spawn::SPAWN_GAP)
+        gap = short(spawn::SPAWN_GAP),
+        offsets = span(&spawn::SPAWN_OFFSETS),
+        sizes = span(&spawn::SPAWN_SIZES),
+        min_gap = short(spawn::MIN_GAP),
     );
+    let lengths: Vec<f64> = degenerate::DIRECTION_EXPONENTS
+        .iter()
+        .map(|&e| 10f64.powi(e))
+        .collect();
     println!(
-        "- **degenerate** ({} rays): unit quads at offsets 0, 1e3, 1e6; rays aimed well inside \
-         with direction lengths 1e-12 to 1e9, grazing rays at 1e-2 to 1e-12 rad to the plane \
-         (where rounding of the origin cannot move the crossing out), and zero directions. \
+        "- **degenerate** ({} rays): unit quads at offsets {offsets}; rays aimed well inside \
+         with direction lengths {lengths}, grazing rays at {angles} rad to the plane (where \
+         rounding of the origin cannot move the crossing out), and zero directions. \
          **Lost**: a ray that should hit misses.",
-        counts.degenerate
+        counts.degenerate,
+        offsets = degenerate::DEGENERATE_OFFSETS
+            .iter()
+            .map(|&x| short(x))
+            .collect::<Vec<_>>()
+            .join(", "),
+        lengths = span(&lengths),
+        angles = span(&degenerate::GRAZING_ANGLES),
     );
     println!(
-        "- **boxes** ({} rays): axis-aligned unit squares (flat boxes) at offsets 0 to 6e11, \
+        "- **boxes** ({} rays): axis-aligned unit squares (flat boxes) at offsets {offsets}, \
          rays lying in their boxes' slab planes with 0 and -0.0 direction components (across \
          an edge, at a corner), perpendicular and slanted. **Lost**: hitkit's quad test accepts \
          the square, the box test rejects its box.",
-        counts.boxes
+        counts.box_rays,
+        offsets = span(&boxes::BOX_OFFSETS),
     );
     println!(
-        "- **NaNs**: hits whose t, point, normal or (alpha, beta) is NaN, on every workload the \
-         row runs.\n- **ns per ray**: the book, well-conditioned and watertight rows on the edges \
-         workload's box rays (closest of six faces); the spawn rows per traced ray of the spawn \
-         workload; the box rows per box test. Median of {repetitions} repetitions, one thread. \
-         \"–\": the row does not run that workload.\n"
+        "- **False hits** are counted on the edges, grazing and degenerate workloads: a hit \
+         whose point (`HitRecord::point`) lies farther from the true shape it reports (the \
+         exact parallelogram or triangle of its `q`, `u`, `v`) than the contract's bound \
+         `2^-{exponent} M / s^2`, `M = |q|_inf + |u|_inf + |v|_inf`, `s` the sine of the angle \
+         between `u` and `v` (the distance is computed in f64, whose own error is far below \
+         the bound here).\n- **NaNs**: hits whose t, point, normal or (alpha, beta) is NaN, \
+         on every workload the row runs.\n- **ns per ray**: the quad-test rows on the edges \
+         workload's box rays from near with exact corners ({box_rays} rays, closest of six \
+         faces); the spawn rows per traced ray of the spawn workload; the box rows per box \
+         test. Median of {repetitions} repetitions, one thread. \"–\": the row does not run \
+         that workload.\n",
+        exponent = distance::CONTRACT_EXPONENT,
+        box_rays = counts.boxes[0],
     );
 }
 
 /// The Markdown table of part 1.
 fn print_table(rows: &[Row]) {
-    println!("| choice | what it fixes | cracks | self-hits | lost hits | NaNs | ns per ray |");
-    println!("|---|---|---:|---:|---:|---:|---:|");
+    println!(
+        "| choice | what it fixes | cracks | false hits | self-hits | lost hits | NaNs | ns per ray |"
+    );
+    println!("|---|---|---:|---:|---:|---:|---:|---:|");
     for row in rows {
         let t = &row.measured.tally;
+        // A `|` in a cell (`|n.d|`) would end it.
+        let escape = |text: &str| text.replace('|', "\\|");
         println!(
-            "| {} | {} | {} | {} | {} | {} | {:.1} |",
-            row.choice,
-            row.fixes,
+            "| {} | {} | {} | {} | {} | {} | {} | {:.1} |",
+            escape(row.choice),
+            escape(row.fixes),
             cell(t.count(Failure::Crack)),
+            cell(t.count(Failure::FalseHit)),
             cell(t.count(Failure::SelfHit)),
             cell(t.count(Failure::Lost)),
             cell(t.count(Failure::Nan)),
@@ -179,43 +285,37 @@ fn print_table(rows: &[Row]) {
 }
 
 /// Notes under the table: the box tests' NaNs and where each row's failures are.
-fn print_notes(rows: &[Row], notes: &BoxNotes, counts: &RayCounts) {
-    let rounded: Vec<String> = rows
-        .iter()
-        .filter_map(|r| {
-            let (boxes, coplanar) = r.measured.rounded_cracks?;
-            Some(format!("{} {boxes} and {coplanar}", r.choice))
-        })
-        .collect();
-    println!(
-        "Not in the table: the boxes, and the coplanar pairs, with each corner computed as \
-         `offset + R * local corner` and rounded on its own do not close: a quad's `q + u + v` \
-         misses the fourth corner by up to an ulp of the coordinates ({ulp:.1e} at 1e12), a gap \
-         in the geometry that no intersection test can close (shapes must share their edges' \
-         corners). Rays that hit nothing, at the boxes' edges and corners ({} rays) and at the \
-         pairs' shared edge ({} rays): {}.\n",
-        counts.rounded_boxes,
-        counts.rounded_coplanar,
-        rounded.join("; "),
-        ulp = 1e12f64.next_up() - 1e12,
-    );
+fn print_notes(rows: &[Row], notes: &BoxNotes) {
     println!(
         "The book's slab test computed a NaN slab distance (0 * inf) on {} of the {} box rays; \
          hitkit's quad test rejected {} of the rays built to meet their square (those are not \
          counted).\n",
         notes.book_nan_rays, notes.rays, notes.leaf_rejected
     );
-    println!("Where the failures are (placements as offset x size):\n");
+    println!(
+        "Where the failures are, by part of a workload, with the placement (offset x size, or \
+         offset) that has most of them:\n"
+    );
     for row in rows.iter().filter(|r| r.measured.tally.total() > 0) {
         let tally = &row.measured.tally;
         let kinds: Vec<String> = Failure::ALL
             .into_iter()
             .filter(|&kind| tally.count(kind).unwrap_or(0) > 0)
             .map(|kind| {
-                let places = tally.places(kind);
-                let mut shown: Vec<String> = places.iter().take(PLACES_SHOWN).cloned().collect();
-                if places.len() > PLACES_SHOWN {
-                    shown.push(format!("{} more", places.len() - PLACES_SHOWN));
+                let parts = tally.parts(kind);
+                let mut shown: Vec<String> = parts
+                    .iter()
+                    .take(PARTS_SHOWN)
+                    .map(|p| {
+                        format!(
+                            "{} {} (most at {}: {})",
+                            p.name, p.count, p.worst.0, p.worst.1
+                        )
+                    })
+                    .collect();
+                if parts.len() > PARTS_SHOWN {
+                    let rest: u64 = parts[PARTS_SHOWN..].iter().map(|p| p.count).sum();
+                    shown.push(format!("{} more parts {rest}", parts.len() - PARTS_SHOWN));
                 }
                 format!(
                     "{} {}: {}",
@@ -306,7 +406,7 @@ fn run(options: &Options) -> Result<(), String> {
     print_workloads(&workloads, repetitions);
     let (rows, notes) = geometry::measure(&workloads, repetitions)?;
     print_table(&rows);
-    print_notes(&rows, &notes, &RayCounts::of(&workloads));
+    print_notes(&rows, &notes);
     let path = write_plot(&rows, &options.output_dir, &machine)?;
     println!("Plot: {}\n", path.display());
 

@@ -46,7 +46,7 @@ pub const DIRECTION_EXPONENTS: [i32; 8] = [-12, -9, -6, -3, 0, 3, 6, 9];
 /// Angles (radians) between grazing rays and the plane.
 pub const GRAZING_ANGLES: [f64; 6] = [1e-2, 1e-4, 1e-6, 1e-8, 1e-10, 1e-12];
 /// The offsets (with scale 1) of the degenerate workload's quads.
-const DEGENERATE_OFFSETS: [f64; 3] = [0.0, 1e3, 1e6];
+pub const DEGENERATE_OFFSETS: [f64; 3] = [0.0, 1e3, 1e6];
 /// Rays per offset and per direction length or angle.
 const DEGENERATE_RAYS: usize = 200;
 

@@ -6,6 +6,9 @@ use hitkit::glam::{DMat3, DQuat, DVec3};
 /// The seed of every workload.
 pub const SEED: u64 = 0x5eed;
 
+/// Rays that cross a plane at an angle make a cosine of at least this with its normal.
+pub const CROSSING_COSINE: f64 = 0.1;
+
 /// Offsets are along this direction (not an axis, so that every coordinate is large).
 const OFFSET_DIRECTION: DVec3 = DVec3::new(1.0, 0.75, -0.5);
 
@@ -124,9 +127,9 @@ impl Frame {
     }
 
     /// A random unit direction that crosses the local plane `z = 0` at an angle: its cosine
-    /// with the normal is at least 0.1 in size, from either side.
+    /// with the normal is at least [`CROSSING_COSINE`] in size, from either side.
     pub fn crossing_direction(&self, rng: &mut Rng) -> DVec3 {
-        let d = rng.cone_z(0.1, 1.0);
+        let d = rng.cone_z(CROSSING_COSINE, 1.0);
         let d = if rng.coin() { d } else { -d };
         self.direction(d)
     }

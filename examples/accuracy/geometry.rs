@@ -1,6 +1,6 @@
 //! Part 1: every accuracy choice on the same workloads, counting failures and timing. The
-//! quad-test rows (the book's, `Exact`, the watertight default, and the two ways of
-//! spawning rays) are here; the box-test rows in `box_tests`.
+//! quad-test rows (the book's, `Exact`, 0.1.0's widened default, today's crossing-region
+//! default, and the two ways of spawning rays) are here; the box-test rows in `box_tests`.
 
 use std::hint::black_box;
 
@@ -13,14 +13,18 @@ use crate::book::{self, BookQuad, BookShape};
 use crate::box_tests::{self, BoxNotes};
 use crate::boxes::Boxes;
 use crate::degenerate::{Degenerate, DegenerateKind, DegenerateRay};
+use crate::distance::{Outline, is_false_hit};
 use crate::edges::{Edges, Group, PLACEMENTS};
 use crate::frame::QuadSpec;
+use crate::grazing::{Approach, Grazing, GrazingRay};
 use crate::spawn::{Spawn, SpawnCase};
 use crate::tally::{Failure, Measured, Row, Tally, median_ns_per_ray, row, short};
+use crate::widened::{Widened, WidenedShape};
 
 /// All the workloads, generated once and shared by every choice.
 pub struct Workloads {
     pub edges: Edges,
+    pub grazing: Grazing,
     pub spawn: Spawn,
     pub degenerate: Degenerate,
     pub boxes: Boxes,
@@ -31,6 +35,7 @@ impl Workloads {
     pub fn generate(size: f64) -> Self {
         Self {
             edges: Edges::generate(size),
+            grazing: Grazing::generate(size),
             spawn: Spawn::generate(size),
             degenerate: Degenerate::generate(size),
             boxes: Boxes::generate(size),
@@ -67,8 +72,8 @@ impl Spawning {
 
 /// How a choice builds parallelograms and triangles from the workloads' `(q, u, v)`.
 trait Shapes {
-    type Parallelogram: Hittable;
-    type Triangle: Hittable;
+    type Parallelogram: Hittable + 'static;
+    type Triangle: Hittable + 'static;
     fn parallelogram(&self, s: &QuadSpec) -> Result<Self::Parallelogram, GeometryError>;
     fn triangle(&self, s: &QuadSpec) -> Result<Self::Triangle, GeometryError>;
 }
@@ -101,7 +106,22 @@ impl Shapes for ExactShapes {
     }
 }
 
-/// hitkit's defaults: watertight (widened) interiors.
+/// hitkit 0.1.0's default: `(alpha, beta)` widened by their error bound
+/// ([`Widened`](crate::widened::Widened)).
+struct WidenedShapes;
+
+impl Shapes for WidenedShapes {
+    type Parallelogram = Widened;
+    type Triangle = Widened;
+    fn parallelogram(&self, s: &QuadSpec) -> Result<Widened, GeometryError> {
+        Widened::new(s.q, s.u, s.v, WidenedShape::Parallelogram)
+    }
+    fn triangle(&self, s: &QuadSpec) -> Result<Widened, GeometryError> {
+        Widened::new(s.q, s.u, s.v, WidenedShape::Triangle)
+    }
+}
+
+/// hitkit's defaults: shapes decided by the crossing region.
 struct DefaultShapes;
 
 impl Shapes for DefaultShapes {
@@ -159,16 +179,19 @@ fn build_group<T>(
         .collect()
 }
 
-/// Counts cracks (rays hitting none of their target's shapes) and NaN hits.
+/// Counts cracks (rays hitting none of their target's shapes), false hits (hits farther
+/// than the contract's bound from the shape hit, whose kind is `outline`) and NaN hits.
 fn count_cracks<T: Hittable>(
     tally: &mut Tally,
     group: &Group,
     targets: &[Vec<T>],
     range: Interval,
     name: &str,
+    outline: Outline,
 ) {
-    tally.measured(Failure::Crack);
-    tally.measured(Failure::Nan);
+    for kind in [Failure::Crack, Failure::FalseHit, Failure::Nan] {
+        tally.measured(kind);
+    }
     for &(target, ray) in &group.rays {
         let place = || {
             let (offset, scale) = group.placements[target];
@@ -177,22 +200,77 @@ fn count_cracks<T: Hittable>(
         match closest(&targets[target], &ray, range) {
             None => tally.add(Failure::Crack, place),
             Some((_, hit)) if has_nan(&hit) => tally.add(Failure::Nan, place),
+            Some((face, hit)) if is_false_hit(outline, &group.targets[target][face], hit.point) => {
+                tally.add(Failure::FalseHit, place)
+            }
             Some(_) => {}
         }
     }
 }
 
-/// The cracks of a group whose corners were rounded one by one (counted apart from the
-/// table).
-fn count_gap_cracks<T: Hittable>(
+/// Builds the shapes of `group` and counts its failures (as [`count_cracks`]).
+fn run_group<T: Hittable>(
+    tally: &mut Tally,
     group: &Group,
     build: impl Fn(&QuadSpec) -> Result<T, GeometryError> + Copy,
     range: Interval,
-) -> Result<u64, String> {
-    let targets = build_group(group, build, "rounded-corner quad")?;
-    let mut gaps = Tally::default();
-    count_cracks(&mut gaps, group, &targets, range, "rounded corners");
-    Ok(gaps.count(Failure::Crack).unwrap_or(0))
+    name: &str,
+    outline: Outline,
+) -> Result<(), String> {
+    let targets = build_group(group, build, name)?;
+    count_cracks(tally, group, &targets, range, name, outline);
+    Ok(())
+}
+
+/// Counts the grazing workload's false hits (hits farther than the contract's bound from
+/// the shape; a ray may pass within the bound of it, and such hits are not counted) and
+/// NaN hits.
+fn count_grazing<S: Shapes>(
+    tally: &mut Tally,
+    grazing: &Grazing,
+    shapes: &S,
+    range: Interval,
+) -> Result<(), String> {
+    tally.measured(Failure::FalseHit);
+    tally.measured(Failure::Nan);
+    let built: Vec<Box<dyn Hittable>> = grazing
+        .shapes
+        .iter()
+        .map(|g| -> Result<Box<dyn Hittable>, String> {
+            Ok(match g.outline {
+                Outline::Parallelogram => {
+                    Box::new(build_one(&g.spec, |s| shapes.parallelogram(s))?)
+                }
+                Outline::Triangle => Box::new(build_one(&g.spec, |s| shapes.triangle(s))?),
+            })
+        })
+        .collect::<Result<_, _>>()?;
+    for &GrazingRay {
+        shape,
+        ray,
+        approach,
+    } in &grazing.rays
+    {
+        let g = &grazing.shapes[shape];
+        let place = || {
+            let (offset, scale) = g.placement;
+            format!(
+                "{} beside a {} at {} x {}",
+                approach.label(),
+                g.outline.name(),
+                short(offset),
+                short(scale)
+            )
+        };
+        match built[shape].hit(&ray, range) {
+            Some(hit) if has_nan(&hit) => tally.add(Failure::Nan, place),
+            Some(hit) if is_false_hit(g.outline, &g.spec, hit.point) => {
+                tally.add(Failure::FalseHit, place)
+            }
+            _ => {}
+        }
+    }
+    Ok(())
 }
 
 /// The timed loop of the geometry rows: every ray of `group` against its target's faces.
@@ -294,16 +372,17 @@ fn build_one<T>(
     build(spec).map_err(|e| format!("cannot build a quad ({spec:?}): {e}"))
 }
 
-/// Counts the degenerate workload's lost hits (rays aimed well inside a quad that miss it)
-/// and NaN hits.
+/// Counts the degenerate workload's lost hits (rays aimed well inside a quad that miss it),
+/// false hits and NaN hits.
 fn count_degenerate<T: Hittable>(
     tally: &mut Tally,
     degenerate: &Degenerate,
     quads: &[T],
     range: Interval,
 ) {
-    tally.measured(Failure::Lost);
-    tally.measured(Failure::Nan);
+    for kind in [Failure::Lost, Failure::FalseHit, Failure::Nan] {
+        tally.measured(kind);
+    }
     for r in &degenerate.rays {
         let DegenerateRay { quad, ray, kind } = *r;
         let place = || {
@@ -314,16 +393,20 @@ fn count_degenerate<T: Hittable>(
             };
             format!("{what} at {}", short(degenerate.offsets[quad]))
         };
+        let spec = &degenerate.quads[quad];
         match quads[quad].hit(&ray, range) {
             None if r.should_hit() => tally.add(Failure::Lost, place),
             Some(hit) if has_nan(&hit) => tally.add(Failure::Nan, place),
+            Some(hit) if is_false_hit(Outline::Parallelogram, spec, hit.point) => {
+                tally.add(Failure::FalseHit, place)
+            }
             _ => {}
         }
     }
 }
 
-/// Rows 1-3: one choice of shapes on the edges, spawn and degenerate workloads; timed on the
-/// box-edge rays.
+/// Rows 1-4: one choice of shapes on the edges, grazing, spawn and degenerate workloads;
+/// timed on the box-edge rays from near.
 fn shape_row<S: Shapes>(
     shapes: &S,
     spawning: Spawning,
@@ -335,23 +418,21 @@ fn shape_row<S: Shapes>(
     let edges = &workloads.edges;
     let para = |s: &QuadSpec| shapes.parallelogram(s);
     let tri = |s: &QuadSpec| shapes.triangle(s);
+    let (p, t) = (Outline::Parallelogram, Outline::Triangle);
 
     let boxes = build_group(&edges.boxes, para, "box face")?;
-    count_cracks(&mut tally, &edges.boxes, &boxes, range, "box edges");
-    let coplanar = build_group(&edges.coplanar, para, "coplanar quad")?;
-    count_cracks(
-        &mut tally,
-        &edges.coplanar,
-        &coplanar,
-        range,
-        "coplanar edge",
-    );
-    let triangles = build_group(&edges.triangles, tri, "triangle")?;
-    count_cracks(&mut tally, &edges.triangles, &triangles, range, "diagonal");
-    let rounded_cracks = (
-        count_gap_cracks(&edges.rounded_boxes, para, range)?,
-        count_gap_cracks(&edges.rounded_coplanar, para, range)?,
-    );
+    count_cracks(&mut tally, &edges.boxes, &boxes, range, "box edges", p);
+    for (group, name) in [
+        (&edges.coplanar, "coplanar edge"),
+        (&edges.rounded_boxes, "rounded box edges"),
+        (&edges.rounded_coplanar, "rounded coplanar edge"),
+        (&edges.far_boxes, "box edges from afar"),
+        (&edges.far_rounded_boxes, "rounded box edges from afar"),
+    ] {
+        run_group(&mut tally, group, para, range, name, p)?;
+    }
+    run_group(&mut tally, &edges.triangles, tri, range, "diagonal", t)?;
+    count_grazing(&mut tally, &workloads.grazing, shapes, range)?;
 
     let pairs = spawn_pairs(&workloads.spawn, para)?;
     count_spawn(&mut tally, &workloads.spawn, &pairs, spawning);
@@ -361,14 +442,10 @@ fn shape_row<S: Shapes>(
     let ns_per_ray = median_ns_per_ray(repetitions, edges.boxes.rays.len(), || {
         trace_group(&edges.boxes, &boxes, range)
     });
-    Ok(Measured {
-        tally,
-        rounded_cracks: Some(rounded_cracks),
-        ns_per_ray,
-    })
+    Ok(Measured::new(tally, ns_per_ray))
 }
 
-/// Row 4: the spawn workload on hitkit's default quads, with one way of spawning.
+/// Rows 5-6: the spawn workload on hitkit's default quads, with one way of spawning.
 fn spawn_offset_row(
     workloads: &Workloads,
     spawning: Spawning,
@@ -396,8 +473,13 @@ pub fn measure(workloads: &Workloads, repetitions: usize) -> Result<(Vec<Row>, B
             shape_row(&ExactShapes, Spawning::Offset, workloads, repetitions)?,
         ),
         row(
-            "watertight (default)",
-            "cracks: points within a derived error bound of an edge count as inside",
+            "widened in (alpha, beta) (0.1.0 default)",
+            "cracks at exactly shared corners: points within the coordinates' error bound, which grows as 1 / |n.d|, count as inside",
+            shape_row(&WidenedShapes, Spawning::Offset, workloads, repetitions)?,
+        ),
+        row(
+            "crossing region (default)",
+            "cracks (shared corners exact or rounded apart) without false hits: the exact crossing's region, narrow across the ray at any angle; double-double near edges; hits kept in the shape's box",
             shape_row(&DefaultShapes, Spawning::Offset, workloads, repetitions)?,
         ),
         row(
@@ -418,25 +500,47 @@ pub fn measure(workloads: &Workloads, repetitions: usize) -> Result<(Vec<Row>, B
 
 /// How many rays each workload traces, for the printed description.
 pub struct RayCounts {
+    /// Every ray of the edges workload.
     pub edges: usize,
-    pub rounded_boxes: usize,
-    pub rounded_coplanar: usize,
+    /// Its parts: box rays from near (exact, rounded), shared-edge rays (coplanar exact and
+    /// rounded, triangles), box rays from afar (exact, rounded).
+    pub boxes: [usize; 2],
+    pub shared: [usize; 3],
+    pub far: [usize; 2],
+    /// The grazing workload's shapes, grazing rays and rays from afar.
+    pub grazing_shapes: usize,
+    pub grazing: [usize; 2],
     pub spawn: usize,
     pub degenerate: usize,
-    pub boxes: usize,
+    pub box_rays: usize,
 }
 
 impl RayCounts {
     /// The counts of `workloads`.
     pub fn of(workloads: &Workloads) -> Self {
         let edges = &workloads.edges;
+        let boxes = [edges.boxes.rays.len(), edges.rounded_boxes.rays.len()];
+        let shared = [
+            edges.coplanar.rays.len(),
+            edges.rounded_coplanar.rays.len(),
+            edges.triangles.rays.len(),
+        ];
+        let far = [
+            edges.far_boxes.rays.len(),
+            edges.far_rounded_boxes.rays.len(),
+        ];
+        let grazing = &workloads.grazing;
+        let approached = |a: Approach| grazing.rays.iter().filter(|r| r.approach == a).count();
         Self {
-            edges: edges.boxes.rays.len() + edges.coplanar.rays.len() + edges.triangles.rays.len(),
-            rounded_boxes: edges.rounded_boxes.rays.len(),
-            rounded_coplanar: edges.rounded_coplanar.rays.len(),
+            edges: boxes.iter().chain(&shared).chain(&far).sum(),
+            boxes,
+            shared,
+            far,
+            grazing_shapes: grazing.shapes.len(),
+            grazing: [approached(Approach::Grazing), approached(Approach::Afar)],
             spawn: workloads.spawn.cases.len(),
             degenerate: workloads.degenerate.rays.len(),
-            boxes: workloads.boxes.rays.len(),
+            box_rays: workloads.boxes.rays.len(),
         }
     }
 }

@@ -11,10 +11,11 @@ use crate::frame::{Frame, QuadSpec, Rng, SEED};
 pub const SPAWN_GAP: f64 = 4e-5;
 
 /// The spawn workload's `(offset, size)` pairs: every pair of these offsets and sizes whose
-/// gap (`SPAWN_GAP * size`) is at least `1e-13 * offset`, hundreds of ulps of the offset, so
-/// that the two surfaces are apart by much more than the rounding of their coordinates.
-const SPAWN_OFFSETS: [f64; 5] = [0.0, 1e3, 1e6, 1e9, 1e12];
-const SPAWN_SIZES: [f64; 4] = [1e-2, 1.0, 1e2, 1e4];
+/// gap (`SPAWN_GAP * size`) is at least `MIN_GAP * offset`, hundreds of ulps of the offset,
+/// so that the two surfaces are apart by much more than the rounding of their coordinates.
+pub const SPAWN_OFFSETS: [f64; 5] = [0.0, 1e3, 1e6, 1e9, 1e12];
+pub const SPAWN_SIZES: [f64; 4] = [1e-2, 1.0, 1e2, 1e4];
+pub const MIN_GAP: f64 = 1e-13;
 
 /// One case of the spawn workload: a ray from below hits `floor`; a ray spawned from that
 /// hit along `reflected` (back down) should hit nothing, one along `transmitted` (up) should
@@ -53,7 +54,7 @@ impl Spawn {
         };
         for &size in &SPAWN_SIZES {
             for &offset in &SPAWN_OFFSETS {
-                if SPAWN_GAP * size >= 1e-13 * offset {
+                if SPAWN_GAP * size >= MIN_GAP * offset {
                     spawn.add_placement(&mut rng, offset, size, rays);
                 }
             }

@@ -10,6 +10,9 @@ use std::time::Instant;
 pub enum Failure {
     /// A ray aimed at a shared edge or corner hits none of the shapes sharing it.
     Crack,
+    /// A hit whose point lies farther from the true shape than the contract's bound,
+    /// `2^-43 M / s^2` (see `distance::contract_bound`).
+    FalseHit,
     /// A spawned ray hits the surface it left.
     SelfHit,
     /// A ray misses a surface it meets (or a box test rejects a box whose quad is hit).
@@ -20,8 +23,9 @@ pub enum Failure {
 
 impl Failure {
     /// Every kind, in the table's order.
-    pub const ALL: [Failure; 4] = [
+    pub const ALL: [Failure; 5] = [
         Failure::Crack,
+        Failure::FalseHit,
         Failure::SelfHit,
         Failure::Lost,
         Failure::Nan,
@@ -31,6 +35,7 @@ impl Failure {
     pub fn label(self) -> &'static str {
         match self {
             Failure::Crack => "cracks",
+            Failure::FalseHit => "false hits",
             Failure::SelfHit => "self-hits",
             Failure::Lost => "lost hits",
             Failure::Nan => "NaNs",
@@ -42,7 +47,7 @@ impl Failure {
 #[derive(Clone, Debug, Default)]
 pub struct Tally {
     counts: BTreeMap<Failure, u64>,
-    /// `(kind, "workload, placement")`: how many.
+    /// `(kind, "part of a workload at placement")`: how many.
     places: BTreeMap<(Failure, String), u64>,
 }
 
@@ -69,20 +74,36 @@ impl Tally {
         self.counts.values().sum()
     }
 
-    /// Where the failures of `kind` happened, most first, as "place: count".
-    pub fn places(&self, kind: Failure) -> Vec<String> {
-        let mut places: Vec<_> = self
-            .places
-            .iter()
-            .filter(|((k, _), _)| *k == kind)
-            .map(|((_, place), n)| (place, *n))
-            .collect();
-        places.sort_by(|a, b| b.1.cmp(&a.1).then_with(|| a.0.cmp(b.0)));
-        places
-            .into_iter()
-            .map(|(place, n)| format!("{place}: {n}"))
-            .collect()
+    /// The failures of `kind` by part of a workload, most first.
+    pub fn parts(&self, kind: Failure) -> Vec<Part> {
+        let mut parts: BTreeMap<&str, Part> = BTreeMap::new();
+        for ((k, place), &n) in &self.places {
+            if *k != kind {
+                continue;
+            }
+            let (name, placement) = place.rsplit_once(" at ").unwrap_or((place.as_str(), ""));
+            let part = parts.entry(name).or_insert_with(|| Part {
+                name: name.to_string(),
+                count: 0,
+                worst: (String::new(), 0),
+            });
+            part.count += n;
+            if n > part.worst.1 {
+                part.worst = (placement.to_string(), n);
+            }
+        }
+        let mut parts: Vec<Part> = parts.into_values().collect();
+        parts.sort_by(|a, b| b.count.cmp(&a.count).then_with(|| a.name.cmp(&b.name)));
+        parts
     }
+}
+
+/// The failures of one kind in one part of a workload (the place's name before its last
+/// " at "): how many, and the placement where most of them are.
+pub struct Part {
+    pub name: String,
+    pub count: u64,
+    pub worst: (String, u64),
 }
 
 /// One row of the table.
@@ -95,21 +116,13 @@ pub struct Row {
 /// What one choice was measured to do.
 pub struct Measured {
     pub tally: Tally,
-    /// Rays at the edges of the boxes, and at the shared edge of the coplanar pairs, whose
-    /// corners were rounded one by one, that hit no shape (not in the table: the geometry
-    /// has gaps there), if the choice ran them.
-    pub rounded_cracks: Option<(u64, u64)>,
     pub ns_per_ray: f64,
 }
 
 impl Measured {
-    /// Counts and a time, with no rounded-corner boxes run.
+    /// Counts and a time.
     pub fn new(tally: Tally, ns_per_ray: f64) -> Self {
-        Self {
-            tally,
-            rounded_cracks: None,
-            ns_per_ray,
-        }
+        Self { tally, ns_per_ray }
     }
 }
 
