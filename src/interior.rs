@@ -139,23 +139,35 @@ fn evaluated_radius(region: &CrossingRegion) -> DVec2 {
 /// How a region lies against the convex polygon `{ x : lo_i <= k_i . x <= hi_i }` (each
 /// `k_i` a row of small integers, so `k_i . radius` is the constraint's widening): the
 /// parallelogram and the triangle.
-#[inline]
+#[inline(always)]
 fn meets_polygon(region: &CrossingRegion, rows: &[([f64; 2], f64, f64)]) -> Meets {
     let r = evaluated_radius(region);
     let half = region.half_length();
-    let mut span = (-region.reach, region.reach);
+    // Each row's value at the centre and how far the region reaches from it: the whole
+    // region is inside, or clear of a row, without solving for the segment (no division
+    // on the common paths).
     let mut inside = true;
+    for &([ka, kb], lo, hi) in rows {
+        let c = ka * region.center.x + kb * region.center.y;
+        let widen = ka.abs() * r.x + kb.abs() * r.y;
+        let extent = ka.abs() * half.x + kb.abs() * half.y + widen;
+        if c + extent < lo || c - extent > hi {
+            return Meets::Outside;
+        }
+        inside &= lo <= c - extent && c + extent <= hi;
+    }
+    if inside {
+        return Meets::Inside;
+    }
+    let mut span = (-region.reach, region.reach);
     for &([ka, kb], lo, hi) in rows {
         let widen = ka.abs() * r.x + kb.abs() * r.y;
         let c = ka * region.center.x + kb * region.center.y;
         let w = ka * region.along.x + kb * region.along.y;
         narrow(&mut span, c, w, lo - widen, hi + widen);
-        let extent = ka.abs() * half.x + kb.abs() * half.y + widen;
-        inside &= lo <= c - extent && c + extent <= hi;
     }
     match nearest(span) {
         None => Meets::Outside,
-        Some(_) if inside => Meets::Inside,
         Some(s) => Meets::Near(s),
     }
 }
@@ -171,7 +183,7 @@ impl Interior for Parallelogram {
         (0.0..=1.0).contains(&alpha) && (0.0..=1.0).contains(&beta)
     }
 
-    #[inline]
+    #[inline(always)]
     fn meets(&self, region: &CrossingRegion) -> Meets {
         meets_polygon(region, &[([1.0, 0.0], 0.0, 1.0), ([0.0, 1.0], 0.0, 1.0)])
     }
@@ -197,7 +209,7 @@ impl Interior for Triangle {
     /// a box is bounded by the triangle's three edges moved out and by `alpha <= 1`,
     /// `beta <= 1` moved out (which cut its corners, so a sliver widens by the radius and
     /// not by the radius over the sine of its angle).
-    #[inline]
+    #[inline(always)]
     fn meets(&self, region: &CrossingRegion) -> Meets {
         meets_polygon(
             region,

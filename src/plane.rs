@@ -316,19 +316,68 @@ impl Plane {
     /// ```
     #[must_use]
     pub fn crossing_region(&self, ray: &Ray, hit: &PlaneHit) -> CrossingRegion {
-        let l1 = |v: DVec3| v.abs().element_sum();
         let q_minus_o = self.q - ray.origin;
-        let p = hit.t * ray.direction - q_minus_o;
+        let c = self.normal.dot(ray.direction).abs();
+        self.region_of(ray, hit, q_minus_o, hit.t * ray.direction - q_minus_o, c)
+    }
+
+    /// [`Plane::intersect`] and [`Plane::crossing_region`] together, sharing `q - o` and
+    /// the point `p`: what a quad computes for every plane it meets.
+    #[inline(always)]
+    pub(crate) fn crossing(
+        &self,
+        ray: &Ray,
+        ray_t: Interval,
+    ) -> Option<(PlaneHit, CrossingRegion)> {
+        let q_minus_o = self.q - ray.origin;
+        let numerator = self.normal.dot(q_minus_o);
+        let denom = self.normal.dot(ray.direction);
+        if ray_t.min >= 0.0 && numerator * denom < 0.0 {
+            return None;
+        }
+        let t = numerator / denom;
+        let finite = (t.abs() < f64::INFINITY) & (denom.abs() < f64::INFINITY);
+        if !(finite && ray_t.contains(t)) {
+            return None;
+        }
+        // The same point as `intersect`'s `(o - q) + t d`: negating a difference is exact.
+        let p = t * ray.direction - q_minus_o;
+        let (alpha, beta) = (p.dot(self.to_alpha), p.dot(self.to_beta));
+        if !((alpha.abs() < f64::INFINITY) & (beta.abs() < f64::INFINITY)) {
+            return None;
+        }
+        let hit = PlaneHit { t, alpha, beta };
+        Some((hit, self.region_of(ray, &hit, q_minus_o, p, denom.abs())))
+    }
+
+    /// The region of [`Plane::crossing_region`], from `q - o`, the point `p` and `|n.d|` as
+    /// computed.
+    #[inline(always)]
+    fn region_of(
+        &self,
+        ray: &Ray,
+        hit: &PlaneHit,
+        q_minus_o: DVec3,
+        p: DVec3,
+        c: f64,
+    ) -> CrossingRegion {
+        let l1 = |v: DVec3| v.abs().element_sum();
         let d1 = l1(ray.direction);
         let (a, b, big_p) = (l1(q_minus_o), hit.t.abs() * d1, l1(p));
-        let c = self.normal.dot(ray.direction).abs();
         let e = self.frame_error;
         let across = gamma(2) * (a + b);
         let slack = c - (gamma(3) + e) * d1;
         let reach = if slack > 0.0 {
-            (gamma(4) * a + gamma(3) * b + e * (big_p + across)) / slack
-                + gamma(2) * hit.t.abs() * (c / slack)
-                + self.tolerance_along(slack, d1)
+            // One division: the tolerance's rate is the slack too, above a slope of 2^-52.
+            let inv = 1.0 / slack;
+            let tolerance = if slack >= d1 * f64::EPSILON {
+                self.tolerance * inv
+            } else {
+                self.tolerance_along(slack, d1)
+            };
+            (gamma(4) * a + gamma(3) * b + e * (big_p + across)) * inv
+                + gamma(2) * hit.t.abs() * (c * inv)
+                + tolerance
         } else {
             f64::INFINITY
         };
@@ -349,7 +398,7 @@ impl Plane {
     /// height over the plane changes by the tolerance, at `rate` of height per unit of `t`.
     /// Below a slope of 2^-52 (a ray within an ulp's angle of parallel) it stops growing,
     /// so that the rounding of `along` over it stays within the tolerance too.
-    #[inline]
+    #[inline(always)]
     fn tolerance_along(&self, rate: f64, d1: f64) -> f64 {
         self.tolerance / rate.max(d1 * f64::EPSILON)
     }
@@ -364,6 +413,7 @@ impl Plane {
     /// A region for the crossing `hit` with bounds `reach` (in units of `t`) and `radius`
     /// (in `alpha` and `beta`), each enlarged by `gamma(16)` for the rounding of its own
     /// evaluation.
+    #[inline(always)]
     fn region(&self, hit: &PlaneHit, along: DVec2, reach: f64, radius: DVec2) -> CrossingRegion {
         let grow = 1.0 + gamma(16);
         CrossingRegion {

@@ -135,8 +135,7 @@ impl<S: Interior> Hittable for Quad<S> {
     #[inline]
     fn hit(&self, ray: &Ray, ray_t: Interval) -> Option<HitRecord> {
         let plane = &self.plane;
-        let mut hit = plane.intersect(ray, Interval::new(ray_t.min, f64::INFINITY))?;
-        let region = plane.crossing_region(ray, &hit);
+        let (mut hit, region) = plane.crossing(ray, Interval::new(ray_t.min, f64::INFINITY))?;
         // Whatever the decision below, the reported t is at least t - 3 reach (the refined
         // crossing's own reach is no larger than this one's): past ray_t.max, no hit.
         if hit.t - 3.0 * region.reach > ray_t.max {
