@@ -62,6 +62,17 @@ pub struct Plane {
     material: MaterialId,
 }
 
+/// The part of a [`CrossingRegion`] that decides whether the rest is needed.
+#[derive(Clone, Copy)]
+struct Bounds {
+    /// Along the ray, in units of `t`.
+    reach: f64,
+    /// Across it, in world space, before the frame's error, the tolerance and the drift.
+    world: f64,
+    /// `|d|_1`.
+    d1: f64,
+}
+
 /// Where the exact crossing of a ray with a plane can lie, in `(alpha, beta)`, given the
 /// rounding of the computed one ([`Plane::crossing_region`]): within `radius` (per
 /// coordinate) of a point `center + s * along` with `|s| <= reach`.
@@ -321,8 +332,11 @@ impl Plane {
         self.region_of(ray, hit, q_minus_o, hit.t * ray.direction - q_minus_o, c)
     }
 
-    /// [`Plane::intersect`] and [`Plane::crossing_region`] together, sharing `q - o` and
-    /// the point `p`: what a quad computes for every plane it meets.
+    /// [`Plane::intersect`] and [`Plane::crossing_region`] together, sharing `q - o`, the
+    /// point `p` and `n.d`: what a quad computes for every plane it meets. Crossings that
+    /// lie past `ray_t.max` by more than three times their reach (so that no decision in
+    /// `Quad::hit` can bring them back into range) are rejected before the region's
+    /// coordinates and widths are computed.
     #[inline(always)]
     pub(crate) fn crossing(
         &self,
@@ -337,17 +351,21 @@ impl Plane {
         }
         let t = numerator / denom;
         let finite = (t.abs() < f64::INFINITY) & (denom.abs() < f64::INFINITY);
-        if !(finite && ray_t.contains(t)) {
+        if !(finite && t >= ray_t.min) {
             return None;
         }
         // The same point as `intersect`'s `(o - q) + t d`: negating a difference is exact.
         let p = t * ray.direction - q_minus_o;
+        let bounds = self.bounds(ray, t, q_minus_o, p, denom.abs());
+        if t - 3.0 * bounds.reach > ray_t.max {
+            return None;
+        }
         let (alpha, beta) = (p.dot(self.to_alpha), p.dot(self.to_beta));
         if !((alpha.abs() < f64::INFINITY) & (beta.abs() < f64::INFINITY)) {
             return None;
         }
         let hit = PlaneHit { t, alpha, beta };
-        Some((hit, self.region_of(ray, &hit, q_minus_o, p, denom.abs())))
+        Some((hit, self.finish(ray, &hit, bounds)))
     }
 
     /// The region of [`Plane::crossing_region`], from `q - o`, the point `p` and `|n.d|` as
@@ -361,9 +379,17 @@ impl Plane {
         p: DVec3,
         c: f64,
     ) -> CrossingRegion {
+        let bounds = self.bounds(ray, hit.t, q_minus_o, p, c);
+        self.finish(ray, hit, bounds)
+    }
+
+    /// The first half of a region: the reach along the ray (see
+    /// [`Plane::crossing_region`]), and the error across it before the drift.
+    #[inline(always)]
+    fn bounds(&self, ray: &Ray, t: f64, q_minus_o: DVec3, p: DVec3, c: f64) -> Bounds {
         let l1 = |v: DVec3| v.abs().element_sum();
         let d1 = l1(ray.direction);
-        let (a, b, big_p) = (l1(q_minus_o), hit.t.abs() * d1, l1(p));
+        let (a, b, big_p) = (l1(q_minus_o), t.abs() * d1, l1(p));
         let e = self.frame_error;
         let across = gamma(2) * (a + b);
         let slack = c - (gamma(3) + e) * d1;
@@ -376,22 +402,32 @@ impl Plane {
                 self.tolerance_along(slack, d1)
             };
             (gamma(4) * a + gamma(3) * b + e * (big_p + across)) * inv
-                + gamma(2) * hit.t.abs() * (c * inv)
+                + gamma(2) * t.abs() * (c * inv)
                 + tolerance
         } else {
             f64::INFINITY
         };
+        Bounds {
+            reach,
+            world: across + gamma(3) * big_p,
+            d1,
+        }
+    }
+
+    /// The second half: `along`, the drift over the reach, and the radius.
+    #[inline(always)]
+    fn finish(&self, ray: &Ray, hit: &PlaneHit, bounds: Bounds) -> CrossingRegion {
         let along = DVec2::new(
             ray.direction.dot(self.to_alpha),
             ray.direction.dot(self.to_beta),
         );
-        let drift = if reach < f64::INFINITY {
-            reach * gamma(3) * d1
+        let drift = if bounds.reach < f64::INFINITY {
+            bounds.reach * gamma(3) * bounds.d1
         } else {
             f64::INFINITY
         };
-        let world = across + gamma(3) * big_p + self.frame_reach() + self.tolerance + drift;
-        self.region(hit, along, reach, world * self.coordinate_scale)
+        let world = bounds.world + self.frame_reach() + self.tolerance + drift;
+        self.region(hit, along, bounds.reach, world * self.coordinate_scale)
     }
 
     /// The tolerance along the ray, in units of `t`: as far as the ray goes while its

@@ -135,12 +135,10 @@ impl<S: Interior> Hittable for Quad<S> {
     #[inline]
     fn hit(&self, ray: &Ray, ray_t: Interval) -> Option<HitRecord> {
         let plane = &self.plane;
-        let (mut hit, region) = plane.crossing(ray, Interval::new(ray_t.min, f64::INFINITY))?;
         // Whatever the decision below, the reported t is at least t - 3 reach (the refined
-        // crossing's own reach is no larger than this one's): past ray_t.max, no hit.
-        if hit.t - 3.0 * region.reach > ray_t.max {
-            return None;
-        }
+        // crossing's own reach is no larger than this one's): `crossing` rejects a t past
+        // ray_t.max by more, and only that.
+        let (mut hit, region) = plane.crossing(ray, ray_t)?;
         match self.shape.meets(&region) {
             Meets::Inside => {}
             Meets::Outside => return None,
