@@ -15,7 +15,7 @@ use crate::boxes::Boxes;
 use crate::degenerate::{Degenerate, DegenerateKind, DegenerateRay};
 use crate::distance::{Outline, is_false_hit};
 use crate::edges::{Edges, Group, PLACEMENTS};
-use crate::frame::QuadSpec;
+use crate::frame::{QuadSpec, Rng, SEED};
 use crate::grazing::{Approach, Grazing, GrazingRay};
 use crate::spawn::{Spawn, SpawnCase};
 use crate::tally::{Failure, Measured, Row, Tally, median_ns_per_ray, row, short};
@@ -442,7 +442,42 @@ fn shape_row<S: Shapes>(
     let ns_per_ray = median_ns_per_ray(repetitions, edges.boxes.rays.len(), || {
         trace_group(&edges.boxes, &boxes, range)
     });
-    Ok(Measured::new(tally, ns_per_ray))
+    let inside = inside_rays(&edges.boxes);
+    let ns_per_inside_ray = median_ns_per_ray(repetitions, inside.rays.len(), || {
+        trace_group(&inside, &boxes, range)
+    });
+    Ok(Measured {
+        ns_per_inside_ray: Some(ns_per_inside_ray),
+        ..Measured::new(tally, ns_per_ray)
+    })
+}
+
+/// Rays per box for the timing on rays through faces' insides.
+pub const INSIDE_RAYS: usize = 20_000;
+
+/// The boxes of `group` with rays of a render's kind instead: from `3 s` away in a random
+/// direction (`s` the box's edge) toward a random point within `0.35 s` of its centre, so
+/// that they enter through a face's inside, almost all of them well away from its edges.
+pub fn inside_rays(group: &Group) -> Group {
+    let mut rng = Rng::new(SEED ^ 0x1a5);
+    let mut rays = Vec::with_capacity(group.targets.len() * INSIDE_RAYS);
+    for (i, faces) in group.targets.iter().enumerate() {
+        let n = faces.len() as f64;
+        let centre = faces
+            .iter()
+            .fold(DVec3::ZERO, |c, f| c + (f.q + 0.5 * (f.u + f.v)) / n);
+        let size = faces[0].u.length();
+        for _ in 0..INSIDE_RAYS {
+            let origin = centre + 3.0 * size * rng.unit_vector();
+            let target = centre + 0.35 * size * rng.uniform() * rng.unit_vector();
+            rays.push((i, Ray::new(origin, target - origin)));
+        }
+    }
+    Group {
+        targets: group.targets.clone(),
+        placements: group.placements.clone(),
+        rays,
+    }
 }
 
 /// Rows 5-6: the spawn workload on hitkit's default quads, with one way of spawning.

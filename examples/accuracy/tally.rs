@@ -117,12 +117,19 @@ pub struct Row {
 pub struct Measured {
     pub tally: Tally,
     pub ns_per_ray: f64,
+    /// For the quad-test rows, the time per ray on rays through the faces' insides (the
+    /// typical ray of a render), beside `ns_per_ray` on rays at edges.
+    pub ns_per_inside_ray: Option<f64>,
 }
 
 impl Measured {
     /// Counts and a time.
     pub fn new(tally: Tally, ns_per_ray: f64) -> Self {
-        Self { tally, ns_per_ray }
+        Self {
+            tally,
+            ns_per_ray,
+            ns_per_inside_ray: None,
+        }
     }
 }
 
