@@ -1,30 +1,16 @@
 //! The BVH answers exactly as a brute-force loop over its objects: same t, same object, on
 //! every ray; and stays correct on degenerate input.
 
+mod support;
+
 use std::sync::Arc;
 
 use hitkit::glam::DVec3;
 use hitkit::{Bvh, Disk, HitRecord, Hittable, Interval, Plane, Quad, Ray, Ring, Triangle};
 use proptest::prelude::*;
+use support::brute_force;
 
 const FORWARD: Interval = Interval::new(0.0, f64::INFINITY);
-
-/// The reference: every object, in order; ties at equal t go to the earlier object.
-fn brute_force(
-    objects: &[Box<dyn Hittable>],
-    ray: &Ray,
-    ray_t: Interval,
-) -> Option<(usize, HitRecord)> {
-    let mut best: Option<(usize, HitRecord)> = None;
-    for (i, o) in objects.iter().enumerate() {
-        if let Some(h) = o.hit(ray, ray_t)
-            && best.is_none_or(|(_, b)| h.t < b.t)
-        {
-            best = Some((i, h));
-        }
-    }
-    best
-}
 
 fn v3(range: f64) -> impl Strategy<Value = DVec3> {
     (-range..range, -range..range, -range..range).prop_map(|(x, y, z)| DVec3::new(x, y, z))

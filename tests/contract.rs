@@ -22,7 +22,7 @@ use hitkit::{
     Parallelogram, PdfHittable, Plane, Quad, Ray, Ring, Sphere, Transformed, Triangle,
 };
 use proptest::prelude::*;
-use support::SplitMix;
+use support::{SplitMix, brute_force};
 
 const FORWARD: Interval = Interval::new(0.0, f64::INFINITY);
 
@@ -35,6 +35,14 @@ const SIZES: [f64; 5] = [1.3e-6, 1.7e-3, 1.1, 1.9e3, 1.3e6];
 /// at least 2^20 ulps of the offset, so that it is more than its own rounding.
 fn meaningful(offset: f64, size: f64) -> bool {
     size >= offset * f64::EPSILON * 1048576.0
+}
+
+/// Every (offset, size) pair of `OFFSETS` and `SIZES` that is [`meaningful`].
+fn placements() -> impl Iterator<Item = (f64, f64)> {
+    OFFSETS
+        .iter()
+        .flat_map(|&offset| SIZES.iter().map(move |&size| (offset, size)))
+        .filter(|&(offset, size)| meaningful(offset, size))
 }
 
 /// A rotation about a random axis by a random angle, as a user's `from_axis_angle` makes.
@@ -151,49 +159,44 @@ fn issue_10_a_grazing_ray_beside_a_triangle_is_not_a_hit() {
 fn grazing_rays_beside_every_builtin_shape_are_never_hit() {
     let mut rng = SplitMix::new(10);
     let (mut beside, mut through, mut worst) = (0, 0, 0.0f64);
-    for &offset in &OFFSETS {
-        for &size in &SIZES {
-            if !meaningful(offset, size) {
-                continue;
-            }
-            for _ in 0..6 {
-                let rot = rotation(&mut rng);
-                let q = rot * DVec3::new(offset, -0.5 * offset, 0.25 * offset) + size * rng.vec3();
-                let u = rot * DVec3::new(size, 0.0, 0.0);
-                let v = rot * (size * DVec3::new(0.3 + rng.next_f64(), 0.5 + rng.next_f64(), 0.0));
-                let bound = planar_bound(q, u, v);
-                let n = u.cross(v).normalize();
-                for (name, shape, distance) in shapes(q, u, v) {
-                    for k in 0..40 {
-                        // A point of the plane near the shape, and a direction along the plane
-                        // with a slope of 1e-2 to 1e-16, toward it from either side.
-                        let (a, b) = (2.4 * rng.next_f64() - 0.7, 2.4 * rng.next_f64() - 0.7);
-                        let target = q + (a * u + b * v);
-                        let along =
-                            (u * (rng.next_f64() - 0.5) + v * (rng.next_f64() - 0.5)).normalize();
-                        let slope = 10f64.powf(-2.0 - 14.0 * rng.next_f64());
-                        let side = if k % 2 == 0 { 1.0 } else { -1.0 };
-                        let direction = along - side * slope * n;
-                        let origin = target - (2.0 * size) * direction;
-                        let ray = Ray::new(origin, direction);
-                        let miss_by = distance(target);
-                        let hit = shape.hit(&ray, FORWARD);
-                        if let Some(hit) = hit {
-                            let off = distance(hit.point);
-                            worst = worst.max(off / bound);
-                            assert!(
-                                off <= bound,
-                                "{name}: hit {off:e} from the shape (bound {bound:e}), size {size} offset {offset}"
-                            );
-                            let line = to_line(hit.point, &ray);
-                            // The ray's own line, as f64 computes it here, is known to a few
-                            // ulps of its origin's distance.
-                            let slack = 1e-14 * (ray.origin - hit.point).length();
-                            assert!(line <= bound + slack, "{name}: hit {line:e} from the ray");
-                            through += 1;
-                        } else if miss_by > 4.0 * bound {
-                            beside += 1;
-                        }
+    for (offset, size) in placements() {
+        for _ in 0..6 {
+            let rot = rotation(&mut rng);
+            let q = rot * DVec3::new(offset, -0.5 * offset, 0.25 * offset) + size * rng.vec3();
+            let u = rot * DVec3::new(size, 0.0, 0.0);
+            let v = rot * (size * DVec3::new(0.3 + rng.next_f64(), 0.5 + rng.next_f64(), 0.0));
+            let bound = planar_bound(q, u, v);
+            let n = u.cross(v).normalize();
+            for (name, shape, distance) in shapes(q, u, v) {
+                for k in 0..40 {
+                    // A point of the plane near the shape, and a direction along the plane
+                    // with a slope of 1e-2 to 1e-16, toward it from either side.
+                    let (a, b) = (2.4 * rng.next_f64() - 0.7, 2.4 * rng.next_f64() - 0.7);
+                    let target = q + (a * u + b * v);
+                    let along =
+                        (u * (rng.next_f64() - 0.5) + v * (rng.next_f64() - 0.5)).normalize();
+                    let slope = 10f64.powf(-2.0 - 14.0 * rng.next_f64());
+                    let side = if k % 2 == 0 { 1.0 } else { -1.0 };
+                    let direction = along - side * slope * n;
+                    let origin = target - (2.0 * size) * direction;
+                    let ray = Ray::new(origin, direction);
+                    let miss_by = distance(target);
+                    let hit = shape.hit(&ray, FORWARD);
+                    if let Some(hit) = hit {
+                        let off = distance(hit.point);
+                        worst = worst.max(off / bound);
+                        assert!(
+                            off <= bound,
+                            "{name}: hit {off:e} from the shape (bound {bound:e}), size {size} offset {offset}"
+                        );
+                        let line = to_line(hit.point, &ray);
+                        // The ray's own line, as f64 computes it here, is known to a few
+                        // ulps of its origin's distance.
+                        let slack = 1e-14 * (ray.origin - hit.point).length();
+                        assert!(line <= bound + slack, "{name}: hit {line:e} from the ray");
+                        through += 1;
+                    } else if miss_by > 4.0 * bound {
+                        beside += 1;
                     }
                 }
             }
@@ -285,41 +288,36 @@ fn box_faces(offset: DVec3, rot: DMat3, size: DVec3) -> Vec<Quad> {
 fn rays_through_edges_of_rotated_boxes_built_face_by_face_never_escape() {
     let mut rng = SplitMix::new(11);
     let mut rays = 0;
-    for &offset in &OFFSETS {
-        for &size in &SIZES {
-            if !meaningful(offset, size) {
-                continue;
-            }
-            for _ in 0..4 {
-                let rot = rotation(&mut rng);
-                let extent = size * DVec3::new(1.0, 0.7, 1.3);
-                let base = rot * DVec3::new(offset, 0.3 * offset, -0.6 * offset);
-                let faces = box_faces(base, rot, extent);
-                let centre = base + rot * (0.5 * extent);
-                for _ in 0..400 {
-                    // A point of an edge (two coordinates at 0 or 1) or a corner.
-                    let mut c = DVec3::new(rng.next_f64(), rng.next_f64(), rng.next_f64());
-                    let (i, j) = ((rng.next_u64() % 3) as usize, (rng.next_u64() % 2) as usize);
-                    let j = (i + 1 + j) % 3;
-                    c[i] = (rng.next_u64() % 2) as f64;
-                    c[j] = (rng.next_u64() % 2) as f64;
-                    if rng.next_u64().is_multiple_of(8) {
-                        c = c.round();
-                    }
-                    let target = base + rot * (c * extent);
-                    let ray = Ray::new(centre, target - centre);
-                    rays += 1;
-                    assert!(
-                        faces.hit(&ray, FORWARD).is_some(),
-                        "escaped at {c:?} (offset {offset}, size {size})"
-                    );
-                    // From outside through the same point, toward the centre.
-                    let outside = Ray::new(target + (target - centre), centre - target);
-                    assert!(
-                        faces.hit(&outside, FORWARD).is_some(),
-                        "slipped in at {c:?}"
-                    );
+    for (offset, size) in placements() {
+        for _ in 0..4 {
+            let rot = rotation(&mut rng);
+            let extent = size * DVec3::new(1.0, 0.7, 1.3);
+            let base = rot * DVec3::new(offset, 0.3 * offset, -0.6 * offset);
+            let faces = box_faces(base, rot, extent);
+            let centre = base + rot * (0.5 * extent);
+            for _ in 0..400 {
+                // A point of an edge (two coordinates at 0 or 1) or a corner.
+                let mut c = DVec3::new(rng.next_f64(), rng.next_f64(), rng.next_f64());
+                let (i, j) = ((rng.next_u64() % 3) as usize, (rng.next_u64() % 2) as usize);
+                let j = (i + 1 + j) % 3;
+                c[i] = (rng.next_u64() % 2) as f64;
+                c[j] = (rng.next_u64() % 2) as f64;
+                if rng.next_u64().is_multiple_of(8) {
+                    c = c.round();
                 }
+                let target = base + rot * (c * extent);
+                let ray = Ray::new(centre, target - centre);
+                rays += 1;
+                assert!(
+                    faces.hit(&ray, FORWARD).is_some(),
+                    "escaped at {c:?} (offset {offset}, size {size})"
+                );
+                // From outside through the same point, toward the centre.
+                let outside = Ray::new(target + (target - centre), centre - target);
+                assert!(
+                    faces.hit(&outside, FORWARD).is_some(),
+                    "slipped in at {c:?}"
+                );
             }
         }
     }
@@ -339,56 +337,50 @@ fn rays_through_edges_of_rotated_boxes_built_face_by_face_never_escape() {
 fn tiles_built_from_q_plus_u_leave_no_crack() {
     let mut rng = SplitMix::new(12);
     let (mut rays, mut skipped) = (0, 0);
-    for &offset in &OFFSETS {
-        for &size in &SIZES {
-            if !meaningful(offset, size) {
-                continue;
-            }
-            for _ in 0..4 {
-                let rot = rotation(&mut rng);
-                let q = rot * DVec3::new(offset, offset * 0.5, -offset);
-                let (u, v) = (
-                    rot * DVec3::new(size, 0.0, 0.0),
-                    rot * DVec3::new(0.3 * size, size, 0.0),
-                );
-                let tiles = vec![
-                    Quad::new(q, u, v).unwrap(),
-                    Quad::new(q + u, u, v).unwrap(),
-                    Quad::new(q + v, u, v).unwrap(),
-                    Quad::new(q + u + v, u, v).unwrap(),
-                ];
-                let n = u.cross(v).normalize();
-                let magnitude = q.abs().max_element() + 2.0 * size;
-                for k in 0..400 {
-                    // A point of the edges shared at q + u (vertical) or q + v (horizontal),
-                    // or their common corner, away from the block's outer edge.
-                    let s = 0.2 + 1.6 * rng.next_f64();
-                    let target = match k % 3 {
-                        0 => q + u + s * v,
-                        1 => q + v + s * u,
-                        _ => q + u + v,
-                    };
-                    let slope = 10f64.powf(-9.0 * rng.next_f64());
-                    let along =
-                        (u * (rng.next_f64() - 0.5) + v * (rng.next_f64() - 0.5)).normalize();
-                    let side = if k % 2 == 0 { 1.0 } else { -1.0 };
-                    let direction = (along + side * slope * n).normalize();
-                    // 2^-40 of the magnitude above the plane: thousands of ulps clear of it.
-                    let height = magnitude / (1u64 << 40) as f64 + size * slope;
-                    let origin = target - (height / slope) * direction;
-                    let d = target - origin;
-                    let aim = 4.0 * f64::EPSILON * d.length() / slope;
-                    if aim > 0.05 * size {
-                        skipped += 1;
-                        continue;
-                    }
-                    let ray = Ray::new(origin, d);
-                    rays += 1;
-                    assert!(
-                        tiles.hit(&ray, FORWARD).is_some(),
-                        "a crack at {target:?} (offset {offset}, size {size}, slope {slope:e})"
-                    );
+    for (offset, size) in placements() {
+        for _ in 0..4 {
+            let rot = rotation(&mut rng);
+            let q = rot * DVec3::new(offset, offset * 0.5, -offset);
+            let (u, v) = (
+                rot * DVec3::new(size, 0.0, 0.0),
+                rot * DVec3::new(0.3 * size, size, 0.0),
+            );
+            let tiles = vec![
+                Quad::new(q, u, v).unwrap(),
+                Quad::new(q + u, u, v).unwrap(),
+                Quad::new(q + v, u, v).unwrap(),
+                Quad::new(q + u + v, u, v).unwrap(),
+            ];
+            let n = u.cross(v).normalize();
+            let magnitude = q.abs().max_element() + 2.0 * size;
+            for k in 0..400 {
+                // A point of the edges shared at q + u (vertical) or q + v (horizontal),
+                // or their common corner, away from the block's outer edge.
+                let s = 0.2 + 1.6 * rng.next_f64();
+                let target = match k % 3 {
+                    0 => q + u + s * v,
+                    1 => q + v + s * u,
+                    _ => q + u + v,
+                };
+                let slope = 10f64.powf(-9.0 * rng.next_f64());
+                let along = (u * (rng.next_f64() - 0.5) + v * (rng.next_f64() - 0.5)).normalize();
+                let side = if k % 2 == 0 { 1.0 } else { -1.0 };
+                let direction = (along + side * slope * n).normalize();
+                // 2^-40 of the magnitude above the plane: thousands of ulps clear of it.
+                let height = magnitude / (1u64 << 40) as f64 + size * slope;
+                let origin = target - (height / slope) * direction;
+                let d = target - origin;
+                let aim = 4.0 * f64::EPSILON * d.length() / slope;
+                if aim > 0.05 * size {
+                    skipped += 1;
+                    continue;
                 }
+                let ray = Ray::new(origin, d);
+                rays += 1;
+                assert!(
+                    tiles.hit(&ray, FORWARD).is_some(),
+                    "a crack at {target:?} (offset {offset}, size {size}, slope {slope:e})"
+                );
             }
         }
     }
@@ -482,61 +474,38 @@ fn mesh_triangles(vertices: &[DVec3], faces: &[[usize; 3]]) -> Vec<Quad<Triangle
 fn closed_triangle_meshes_with_shared_vertices_never_leak() {
     let mut rng = SplitMix::new(13);
     let mut rays = 0;
-    for &offset in &OFFSETS {
-        for &size in &SIZES {
-            if !meaningful(offset, size) {
-                continue;
-            }
-            let centre = DVec3::new(offset, -offset * 0.7, offset * 0.2);
-            let (vertices, faces) = icosphere(centre, size, rotation(&mut rng), 2);
-            let triangles = mesh_triangles(&vertices, &faces);
-            let bvh = Bvh::new(triangles.clone());
-            for k in 0..600 {
-                let [a, b, c] = faces[(rng.next_u64() % faces.len() as u64) as usize];
-                let (a, b, c) = (vertices[a], vertices[b], vertices[c]);
-                let target = match k % 3 {
-                    0 => a,
-                    1 => a + rng.next_f64() * (b - a),
-                    _ => {
-                        let (x, y) = (rng.next_f64(), rng.next_f64());
-                        let (x, y) = if x + y > 1.0 {
-                            (1.0 - x, 1.0 - y)
-                        } else {
-                            (x, y)
-                        };
-                        a + x * (b - a) + y * (c - a)
-                    }
-                };
-                let inside = centre + 0.3 * size * rng.vec3();
-                let ray = Ray::new(inside, target - inside);
-                rays += 1;
-                assert!(
-                    triangles.hit(&ray, FORWARD).is_some(),
-                    "leaked (offset {offset}, size {size})"
-                );
-                assert!(bvh.hit(&ray, FORWARD).is_some(), "leaked from the BVH");
-            }
+    for (offset, size) in placements() {
+        let centre = DVec3::new(offset, -offset * 0.7, offset * 0.2);
+        let (vertices, faces) = icosphere(centre, size, rotation(&mut rng), 2);
+        let triangles = mesh_triangles(&vertices, &faces);
+        let bvh = Bvh::new(triangles.clone());
+        for k in 0..600 {
+            let [a, b, c] = faces[(rng.next_u64() % faces.len() as u64) as usize];
+            let (a, b, c) = (vertices[a], vertices[b], vertices[c]);
+            let target = match k % 3 {
+                0 => a,
+                1 => a + rng.next_f64() * (b - a),
+                _ => {
+                    let (x, y) = (rng.next_f64(), rng.next_f64());
+                    let (x, y) = if x + y > 1.0 {
+                        (1.0 - x, 1.0 - y)
+                    } else {
+                        (x, y)
+                    };
+                    a + x * (b - a) + y * (c - a)
+                }
+            };
+            let inside = centre + 0.3 * size * rng.vec3();
+            let ray = Ray::new(inside, target - inside);
+            rays += 1;
+            assert!(
+                triangles.hit(&ray, FORWARD).is_some(),
+                "leaked (offset {offset}, size {size})"
+            );
+            assert!(bvh.hit(&ray, FORWARD).is_some(), "leaked from the BVH");
         }
     }
     assert!(rays > 10000);
-}
-
-/// The closest hit of a list and its position, of equal `t` the earlier: what a `Bvh`
-/// must return.
-fn brute_force<T: Hittable>(
-    objects: &[T],
-    ray: &Ray,
-    ray_t: Interval,
-) -> Option<(usize, HitRecord)> {
-    let mut best: Option<(usize, HitRecord)> = None;
-    for (i, o) in objects.iter().enumerate() {
-        if let Some(h) = o.hit(ray, ray_t)
-            && best.is_none_or(|(_, b)| h.t < b.t)
-        {
-            best = Some((i, h));
-        }
-    }
-    best
 }
 
 /// Clause 3, and the issue's BVH reproducer: from 1e6 and 1e9 away, rays through edges made

@@ -27,3 +27,21 @@ pub fn four_lights() -> Vec<Box<dyn hitkit::PdfHittable>> {
         Box::new(Sphere::new(DVec3::new(-2.0, 0.0, 0.0), 0.5).unwrap()),
     ]
 }
+
+/// The closest hit of a list and its position, ties at equal `t` going to the earlier
+/// object: what a `Bvh` must return.
+pub fn brute_force<T: hitkit::Hittable>(
+    objects: &[T],
+    ray: &hitkit::Ray,
+    ray_t: hitkit::Interval,
+) -> Option<(usize, hitkit::HitRecord)> {
+    let mut best: Option<(usize, hitkit::HitRecord)> = None;
+    for (i, o) in objects.iter().enumerate() {
+        if let Some(h) = o.hit(ray, ray_t)
+            && best.is_none_or(|(_, b)| h.t < b.t)
+        {
+            best = Some((i, h));
+        }
+    }
+    best
+}
