@@ -8,7 +8,7 @@ use std::hint::black_box;
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use hitkit::{Bvh, Hittable, Interval, Quad, Ray, Triangle};
 
-#[path = "peers/src/scene.rs"]
+#[path = "../tests/support/scene.rs"]
 #[allow(dead_code)]
 mod scene;
 

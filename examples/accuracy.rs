@@ -33,7 +33,7 @@ mod plot;
 mod rendering;
 #[path = "accuracy/samplers.rs"]
 mod samplers;
-#[path = "../benches/peers/src/scene.rs"]
+#[path = "../tests/support/scene.rs"]
 #[allow(dead_code)] // the shared random stream and the machine's name are what this uses
 mod scene;
 #[path = "accuracy/spawn.rs"]

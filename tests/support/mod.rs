@@ -2,7 +2,7 @@
 //! benches use), and a set of lights.
 #![allow(dead_code)]
 
-#[path = "../../benches/peers/src/scene.rs"]
+#[path = "scene.rs"]
 mod scene;
 
 #[allow(unused_imports)] // not every test file uses it

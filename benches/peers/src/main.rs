@@ -6,6 +6,7 @@
 //!
 //! `cargo run --release -p hitkit-peers -- --help`
 
+#[path = "../../../tests/support/scene.rs"]
 mod scene;
 
 use std::hint::black_box;

@@ -1,5 +1,7 @@
-//! The scenes and rays every benchmark shares: the criterion benches include this file, and
-//! the peers comparison uses it, so that all of them trace the same work.
+//! The scenes and rays every benchmark shares, kept in the packaged tree: the tests, the
+//! criterion benches and the accuracy example include this file, and the peers comparison
+//! (`benches/peers`, outside the package) reaches into it, so that all of them trace the
+//! same work.
 
 use hitkit::Ray;
 use hitkit::glam::DVec3;
