@@ -25,7 +25,7 @@ fn triangles(n: usize) -> Vec<Quad<Triangle>> {
 
 fn trace<H: Hittable + ?Sized>(scene: &H, rays: &[Ray]) -> usize {
     rays.iter()
-        .filter(|r| black_box(scene.hit(r, Interval::new(0.0, f64::INFINITY))).is_some())
+        .filter(|r| black_box(scene.hit(r, Interval::FORWARD)).is_some())
         .count()
 }
 

@@ -26,7 +26,7 @@ const FAR_PAD: f64 = 2.0 * gamma(3);
 /// let b = Aabb::new(DVec3::new(1.0, 1.0, 0.0), DVec3::new(-1.0, -1.0, 0.0));
 /// assert!(b.min().z < 0.0 && b.max().z > 0.0 && b.max().z < 1e-5);
 /// let ray = Ray::new(DVec3::new(0.0, 0.0, 5.0), DVec3::new(0.0, 0.0, -1.0));
-/// assert!(b.hit(&ray, Interval::new(0.0, f64::INFINITY)));
+/// assert!(b.hit(&ray, Interval::FORWARD));
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Aabb {
@@ -176,7 +176,7 @@ impl Aabb {
     /// use hitkit::{glam::DVec3, Aabb, Interval, Ray};
     /// let cube = Aabb::new(DVec3::ZERO, DVec3::ONE);
     /// let ray = Ray::new(DVec3::new(0.5, 0.5, -1.0), DVec3::Z);
-    /// let span = cube.ray_span(&ray, Interval::new(0.0, f64::INFINITY)).unwrap();
+    /// let span = cube.ray_span(&ray, Interval::FORWARD).unwrap();
     /// assert!(span.min <= 1.0 && span.min > 0.99 && span.max >= 2.0 && span.max < 2.01);
     /// ```
     #[inline]

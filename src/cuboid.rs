@@ -16,12 +16,12 @@ use crate::{Aabb, GeometryError, HitRecord, Hittable, Interval, MaterialId, Quad
 /// let block = Cuboid::new(DVec3::new(1.0, 0.0, -1.0), DVec3::new(-1.0, 2.0, 1.0))?
 ///     .with_material(MaterialId(3));
 /// let down = Ray::new(DVec3::new(0.5, 5.0, 0.5), DVec3::new(0.0, -1.0, 0.0));
-/// let hit = block.hit(&down, Interval::new(0.0, f64::INFINITY)).unwrap();
+/// let hit = block.hit(&down, Interval::FORWARD).unwrap();
 /// assert_eq!((hit.t, hit.normal, hit.front_face), (3.0, DVec3::Y, true));
 /// assert_eq!(hit.material, MaterialId(3));
 ///
 /// let out = Ray::new(DVec3::new(0.0, 1.0, 0.0), DVec3::X);
-/// let hit = block.hit(&out, Interval::new(0.0, f64::INFINITY)).unwrap();
+/// let hit = block.hit(&out, Interval::FORWARD).unwrap();
 /// assert_eq!((hit.t, hit.normal, hit.front_face), (1.0, -DVec3::X, false));
 /// # Ok(())
 /// # }

@@ -1,3 +1,5 @@
+//! [`GeometryError`]: why a shape, light or scene could not be built.
+
 use core::fmt;
 
 /// Why a shape could not be built. Every constructor that takes numbers returns it rather
@@ -36,6 +38,15 @@ pub enum GeometryError {
         /// The domain it must lie in, for the message.
         domain: &'static str,
     },
+    /// Two inputs that must be equally long are not (one weight per light, say).
+    LengthMismatch {
+        /// The input whose length is off.
+        what: &'static str,
+        /// The length it must have.
+        expected: usize,
+        /// The length it has.
+        found: usize,
+    },
 }
 
 impl fmt::Display for GeometryError {
@@ -50,6 +61,11 @@ impl fmt::Display for GeometryError {
             Self::InvalidParameter { what, value, domain } => {
                 write!(f, "{what} = {value} lies outside {domain}")
             }
+            Self::LengthMismatch {
+                what,
+                expected,
+                found,
+            } => write!(f, "{what} has {found} elements where {expected} are needed"),
         }
     }
 }

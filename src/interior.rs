@@ -21,7 +21,7 @@ use crate::{Aabb, CrossingRegion, GeometryError, Hittable, Plane};
 /// };
 /// let quad = Quad::with_interior(DVec3::ZERO, DVec3::X, DVec3::Y, frame).unwrap();
 /// let through_hole = Ray::new(DVec3::new(0.5, 0.5, 1.0), DVec3::new(0.0, 0.0, -1.0));
-/// assert!(quad.hit(&through_hole, Interval::new(0.0, f64::INFINITY)).is_none());
+/// assert!(quad.hit(&through_hole, Interval::FORWARD).is_none());
 /// ```
 pub trait Interior: Send + Sync {
     /// Whether the point with plane coordinates `(alpha, beta)` belongs to the shape.

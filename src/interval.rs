@@ -1,3 +1,5 @@
+//! [`Interval`]: a closed range of ray parameters.
+
 /// A closed range of reals `[min, max]`; empty when `min > max` (or either is NaN).
 ///
 /// ```
@@ -19,6 +21,14 @@ impl Interval {
     pub const EMPTY: Self = Self::new(f64::INFINITY, f64::NEG_INFINITY);
     /// Contains every real.
     pub const UNIVERSE: Self = Self::new(f64::NEG_INFINITY, f64::INFINITY);
+    /// `[0, infinity)`: everything ahead of a ray's origin, the range to trace a camera ray
+    /// or a [spawned](crate::HitRecord::spawn_ray) one with (no epsilon needed).
+    ///
+    /// ```
+    /// use hitkit::Interval;
+    /// assert_eq!(Interval::FORWARD, Interval::new(0.0, f64::INFINITY));
+    /// ```
+    pub const FORWARD: Self = Self::new(0.0, f64::INFINITY);
 
     /// The interval `[min, max]`.
     #[inline]

@@ -17,7 +17,7 @@
 //!     Box::new(Plane::new(DVec3::new(0.0, -2.0, 0.0), DVec3::Z, DVec3::X)?),
 //! ];
 //! let ray = Ray::new(DVec3::ZERO, DVec3::new(0.0, 0.0, -1.0));
-//! let hit = scene.hit(&ray, Interval::new(0.0, f64::INFINITY)).expect("the disk is in front");
+//! let hit = scene.hit(&ray, Interval::FORWARD).expect("the disk is in front");
 //! assert_eq!(hit.t, 3.0);
 //! assert_eq!(hit.normal, DVec3::Z); // faces against the ray
 //! # Ok(())
@@ -78,6 +78,7 @@
 #![cfg_attr(not(feature = "std"), no_std)]
 #![cfg_attr(docsrs, feature(doc_cfg))]
 #![deny(missing_docs)]
+#![forbid(unsafe_code)]
 
 #[cfg(not(any(feature = "std", feature = "libm")))]
 compile_error!("hitkit needs float functions: enable the `std` feature (default) or `libm`");
@@ -91,14 +92,14 @@ mod error;
 mod hittable;
 mod interior;
 mod interval;
+mod light;
+mod list;
 mod math;
-mod mixture;
 mod plane;
 mod quad;
 mod ray;
-mod sampling;
+mod record;
 mod sphere;
-mod spherical;
 mod transform;
 
 #[cfg(feature = "approx")]
@@ -110,14 +111,14 @@ pub use aabb::Aabb;
 pub use bvh::Bvh;
 pub use cuboid::Cuboid;
 pub use error::GeometryError;
-pub use hittable::{HitRecord, Hittable, MaterialId, PdfHittable};
+pub use hittable::{Hittable, PdfHittable};
 pub use interior::{Disk, Exact, Interior, Meets, Parallelogram, Ring, Triangle};
 pub use interval::Interval;
-pub use mixture::Mixture;
+pub use light::{Mixture, Polygon, SampleInterior, Sampling};
 pub use plane::{CrossingRegion, Plane, PlaneHit};
 pub use quad::Quad;
 pub use ray::Ray;
-pub use sampling::{SampleInterior, Sampling};
+pub use record::{HitRecord, MaterialId};
 pub use sphere::Sphere;
 pub use transform::Transformed;
 

@@ -32,7 +32,7 @@ pub struct PlaneHit {
 /// use hitkit::{glam::DVec3, Interval, Plane, Ray};
 /// let ground = Plane::new(DVec3::ZERO, DVec3::Z, DVec3::X).unwrap(); // normal +y
 /// let ray = Ray::new(DVec3::new(3.0, 2.0, 1.0), DVec3::new(1.0, -1.0, 0.0));
-/// let hit = ground.intersect(&ray, Interval::new(0.0, f64::INFINITY)).unwrap();
+/// let hit = ground.intersect(&ray, Interval::FORWARD).unwrap();
 /// assert_eq!((hit.t, hit.alpha, hit.beta), (2.0, 1.0, 5.0)); // the point (5, 0, 1)
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -586,15 +586,10 @@ impl Plane {
         let tilt = self.frame_error * (au.abs() + bv.abs()).element_sum();
         let point_error = gamma(3) * (self.q.abs() + au.abs() + bv.abs()) + DVec3::splat(tilt);
         (point.is_finite() && point_error.is_finite()).then(|| {
-            HitRecord::new(
-                ray,
-                hit.t,
-                point,
-                point_error,
-                self.normal,
-                uv,
-                self.material,
-            )
+            HitRecord::new(ray, hit.t, point, self.normal)
+                .with_point_error(point_error)
+                .with_uv(uv)
+                .with_material(self.material)
         })
     }
 }

@@ -15,7 +15,7 @@ use crate::{Aabb, GeometryError, HitRecord, Hittable, Interval, MaterialId, PdfH
 /// ```
 /// use hitkit::{glam::DVec3, Hittable, Interval, Ray, Sphere};
 /// let ball = Sphere::new(DVec3::new(0.0, 0.0, -5.0), 1.0).unwrap();
-/// let hit = ball.hit(&Ray::new(DVec3::ZERO, DVec3::NEG_Z), Interval::new(0.0, f64::INFINITY)).unwrap();
+/// let hit = ball.hit(&Ray::new(DVec3::ZERO, DVec3::NEG_Z), Interval::FORWARD).unwrap();
 /// assert_eq!((hit.t, hit.normal), (4.0, DVec3::Z));
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -146,15 +146,12 @@ impl Hittable for Sphere {
         let theta = acos((-outward.y).clamp(-1.0, 1.0));
         let phi = atan2(-outward.z, outward.x) + PI;
         let uv = DVec2::new(phi / TAU, theta / PI);
-        Some(HitRecord::new(
-            ray,
-            t,
-            point,
-            point_error,
-            outward,
-            uv,
-            self.material,
-        ))
+        Some(
+            HitRecord::new(ray, t, point, outward)
+                .with_point_error(point_error)
+                .with_uv(uv)
+                .with_material(self.material),
+        )
     }
 
     fn bounding_box(&self) -> Aabb {

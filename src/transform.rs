@@ -22,7 +22,7 @@ use crate::{Aabb, GeometryError, HitRecord, Hittable, Interval, PdfHittable, Ray
 /// let tall = Transformed::translate(Transformed::rotate_y(tall, 15.0)?, DVec3::new(265.0, 0.0, 295.0))?;
 ///
 /// let down = Ray::new(DVec3::new(350.0, 1000.0, 375.0), DVec3::new(0.0, -1.0, 0.0));
-/// let hit = tall.hit(&down, Interval::new(0.0, f64::INFINITY)).unwrap();
+/// let hit = tall.hit(&down, Interval::FORWARD).unwrap();
 /// // A turn about y leaves y coordinates alone, exactly: so is the top face's hit.
 /// assert_eq!((hit.t, hit.normal), (670.0, DVec3::Y));
 /// assert!(tall.bounding_box().contains(hit.point));

@@ -4,7 +4,7 @@
 use hitkit::glam::DVec3;
 use hitkit::{Aabb, Interval, Ray};
 
-const FORWARD: Interval = Interval::new(0.0, f64::INFINITY);
+const FORWARD: Interval = Interval::FORWARD;
 
 fn unit_box() -> Aabb {
     Aabb::new(DVec3::ZERO, DVec3::ONE)

@@ -53,6 +53,20 @@ fn every_error_variant_is_reached_with_a_message() {
         assert_eq!(err, want);
         assert!(err.to_string().contains(message), "{err}");
     }
+    let lights = vec![Quad::new(DVec3::Y, DVec3::X, DVec3::Z).unwrap(); 3];
+    let mismatch = Mixture::new(lights, &[1.0, 2.0]).unwrap_err();
+    assert_eq!(
+        mismatch,
+        GeometryError::LengthMismatch {
+            what: "weights",
+            expected: 3,
+            found: 2
+        }
+    );
+    assert_eq!(
+        mismatch.to_string(),
+        "weights has 2 elements where 3 are needed"
+    );
     let ring = Ring::new(1.0).unwrap_err();
     assert!(matches!(
         ring,

@@ -41,7 +41,7 @@ fn check<S: Interior>(
         return Ok(()); // degenerate random frames are refused; nothing to check
     };
     let bbox = quad.bounding_box();
-    for interval in [Interval::new(0.0, f64::INFINITY), Interval::UNIVERSE] {
+    for interval in [Interval::FORWARD, Interval::UNIVERSE] {
         if let Some(hit) = quad.hit(ray, interval) {
             prop_assert!(
                 bbox.hit(ray, interval),

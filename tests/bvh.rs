@@ -10,7 +10,7 @@ use hitkit::{Bvh, Disk, HitRecord, Hittable, Interval, Plane, Quad, Ray, Ring, T
 use proptest::prelude::*;
 use support::brute_force;
 
-const FORWARD: Interval = Interval::new(0.0, f64::INFINITY);
+const FORWARD: Interval = Interval::FORWARD;
 
 fn v3(range: f64) -> impl Strategy<Value = DVec3> {
     (-range..range, -range..range, -range..range).prop_map(|(x, y, z)| DVec3::new(x, y, z))

@@ -24,7 +24,7 @@ use hitkit::{
 use proptest::prelude::*;
 use support::{SplitMix, brute_force};
 
-const FORWARD: Interval = Interval::new(0.0, f64::INFINITY);
+const FORWARD: Interval = Interval::FORWARD;
 
 /// Offsets that round every corner built from them (none is a power of two), 0 to ~1e12.
 const OFFSETS: [f64; 5] = [0.0, 1234.567, 1.1e6 + 0.3, 3.3e9 + 0.7, 1.7e12 + 0.1];

@@ -33,7 +33,7 @@ fn scene() -> Vec<Box<dyn Hittable>> {
 }
 
 fn first(objects: &dyn Hittable, ray: &Ray) -> Option<HitRecord> {
-    objects.hit(ray, Interval::new(0.0, f64::INFINITY))
+    objects.hit(ray, Interval::FORWARD)
 }
 
 #[test]

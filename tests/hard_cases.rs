@@ -17,7 +17,7 @@ use hitkit::{
 };
 use support::SplitMix;
 
-const FORWARD: Interval = Interval::new(0.0, f64::INFINITY);
+const FORWARD: Interval = Interval::FORWARD;
 
 /// Offsets (powers of two, so that corners built from them stay exact) from 0 to about 1e12.
 const OFFSETS: [f64; 6] = [0.0, 1.0, 1024.0, 1048576.0, 1073741824.0, 1099511627776.0];

@@ -71,10 +71,7 @@ fn check_hit<S: Interior + Copy>(
     uv: impl Fn(f64, f64) -> DVec2,
 ) -> Result<(), TestCaseError> {
     let quad = Quad::with_interior(frame.0, frame.1, frame.2, shape).unwrap();
-    let hit = quad.hit(
-        &ray_at(frame, alpha, beta),
-        Interval::new(0.0, f64::INFINITY),
-    );
+    let hit = quad.hit(&ray_at(frame, alpha, beta), Interval::FORWARD);
     let h = landing_error(frame);
     if let Some(expect) = clear_of_the_edge(&shape, alpha, beta, h) {
         prop_assert_eq!(hit.is_some(), expect, "alpha {} beta {}", alpha, beta);
@@ -163,7 +160,7 @@ proptest! {
         let ring = Quad::with_interior(frame.0, frame.1, frame.2, Ring::new(0.0).unwrap()).unwrap();
         let disk = Quad::with_interior(frame.0, frame.1, frame.2, Disk).unwrap();
         let ray = ray_at(frame, a, b);
-        let forward = Interval::new(0.0, f64::INFINITY);
+        let forward = Interval::FORWARD;
         prop_assert_eq!(ring.hit(&ray, forward), disk.hit(&ray, forward));
         prop_assert_eq!(ring.bounding_box(), disk.bounding_box());
         prop_assert_eq!(Ring::new(0.0).unwrap().contains(a, b), Disk.contains(a, b));
@@ -231,7 +228,7 @@ fn closures_are_interiors() {
         a > 0.5 && (0.0..=1.0).contains(&b)
     })
     .unwrap();
-    let forward = Interval::new(0.0, f64::INFINITY);
+    let forward = Interval::FORWARD;
     assert!(
         quad.hit(
             &ray_at((DVec3::ZERO, DVec3::X, DVec3::Y), 0.75, 0.5),

@@ -53,7 +53,7 @@ fn mixture_samples_hit_a_light_with_the_mean_density() {
             / 4.0;
         assert_eq!(pdf, mean);
         let index = lights.iter().position(|l| {
-            l.hit(&Ray::new(DVec3::ZERO, d), Interval::new(0.0, f64::INFINITY))
+            l.hit(&Ray::new(DVec3::ZERO, d), Interval::FORWARD)
                 .is_some()
         });
         picked[index.expect("a sampled direction hits a light")] += 1;
@@ -99,7 +99,7 @@ fn a_weighted_mixture_integrates_to_one_and_picks_lights_by_weight() {
         // The same products summed in the same order (a weight of 0 adds an exact 0).
         assert_eq!(pdf, weighted);
         let index = mixture.lights().iter().position(|l| {
-            l.hit(&Ray::new(DVec3::ZERO, d), Interval::new(0.0, f64::INFINITY))
+            l.hit(&Ray::new(DVec3::ZERO, d), Interval::FORWARD)
                 .is_some()
         });
         picked[index.expect("a sampled direction hits a light")] += 1;
@@ -175,10 +175,10 @@ fn bad_weights_are_refused_and_an_empty_mixture_is_dark() {
     for (weights, expected) in [
         (
             vec![1.0],
-            GeometryError::InvalidParameter {
-                what: "weights.len()",
-                value: 1.0,
-                domain: "lights.len()",
+            GeometryError::LengthMismatch {
+                what: "weights",
+                expected: 2,
+                found: 1,
             },
         ),
         (

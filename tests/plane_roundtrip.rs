@@ -180,7 +180,7 @@ fn assert_shape_agrees<S: hitkit::Interior>(
     name: &str,
 ) -> Result<(), TestCaseError> {
     let quad = Quad::with_interior(case.q, case.u, case.v, shape).unwrap();
-    let hit = quad.hit(&case.ray(), Interval::new(0.0, f64::INFINITY));
+    let hit = quad.hit(&case.ray(), Interval::FORWARD);
     if let Some(expect) = expect {
         prop_assert_eq!(
             hit.is_some(),

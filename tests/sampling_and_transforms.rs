@@ -14,7 +14,7 @@ use hitkit::{
 };
 use support::{SplitMix, gamma};
 
-const FORWARD: Interval = Interval::new(0.0, f64::INFINITY);
+const FORWARD: Interval = Interval::FORWARD;
 
 /// A light, its centre, and its unit normal.
 struct Light {

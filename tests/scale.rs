@@ -4,7 +4,7 @@
 use hitkit::glam::DVec3;
 use hitkit::{Hittable, Interval, Plane, Quad, Ray};
 
-const FORWARD: Interval = Interval::new(0.0, f64::INFINITY);
+const FORWARD: Interval = Interval::FORWARD;
 
 /// The book rejects `|n.d| < 1e-8`; with `n = u x v` of a unit quad that is any direction
 /// shorter than 1e-8, however squarely it is aimed.

@@ -97,9 +97,7 @@ fn the_density_integrates_to_one_and_samples_hit_the_light() {
                     "{name} from {origin}: {d} has density {pdf}"
                 );
                 assert!(
-                    light
-                        .hit(&Ray::new(origin, d), Interval::new(0.0, f64::INFINITY))
-                        .is_some(),
+                    light.hit(&Ray::new(origin, d), Interval::FORWARD).is_some(),
                     "{name} from {origin}: {d} misses"
                 );
             }
@@ -144,9 +142,7 @@ fn solid_angle_sampling_agrees_with_area_sampling_with_less_variance_near_the_li
             if height <= 1.0 {
                 let (uniform, se_u) = stats(400_000, || {
                     let d = rng.direction();
-                    let hits = light
-                        .hit(&Ray::new(origin, d), Interval::new(0.0, f64::INFINITY))
-                        .is_some();
+                    let hits = light.hit(&Ray::new(origin, d), Interval::FORWARD).is_some();
                     if hits {
                         -d.z * 4.0 * std::f64::consts::PI
                     } else {

@@ -7,7 +7,7 @@ use hitkit::glam::{DVec2, DVec3};
 use hitkit::{GeometryError, Hittable, Interval, PdfHittable, Ray, Sphere};
 use support::SplitMix;
 
-const FORWARD: Interval = Interval::new(0.0, f64::INFINITY);
+const FORWARD: Interval = Interval::FORWARD;
 
 /// A sphere of radius 1e-3 seen from 1e6 away (and the same scene shifted by 1e9), rays
 /// aimed 0.99 of the radius off centre: the textbook discriminant `b^2 - ac` (half-b form)

@@ -83,15 +83,11 @@ impl Hittable for BookQuad {
         if !self.is_interior(alpha, beta) {
             return None;
         }
-        Some(HitRecord::new(
-            ray,
-            t,
-            intersection,
-            DVec3::ZERO,
-            self.normal,
-            DVec2::new(alpha, beta),
-            MaterialId(0),
-        ))
+        Some(
+            HitRecord::new(ray, t, intersection, self.normal)
+                .with_uv(DVec2::new(alpha, beta))
+                .with_material(MaterialId(0)),
+        )
     }
 
     /// The book's box, as a hitkit `Aabb` (which pads it again; unused by the workloads).

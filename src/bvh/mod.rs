@@ -8,7 +8,7 @@ use alloc::vec::Vec;
 
 use glam::DVec3;
 
-use crate::{Aabb, HitRecord, Hittable, Interval, PdfHittable, Ray};
+use crate::{Aabb, HitRecord, Hittable, Interval, Ray};
 
 /// Deepest a tree gets; the traversal stack has this many entries. The build switches to
 /// median splits (which halve the count) well before it: see `build::MEDIAN_FROM_DEPTH`.
@@ -50,7 +50,7 @@ struct Pair {
 ///     .collect();
 /// let bvh = Bvh::new(tiles);
 /// let ray = Ray::new(DVec3::new(41.5, 0.5, 1.0), DVec3::NEG_Z);
-/// let (index, hit) = bvh.hit_with_index(&ray, Interval::new(0.0, f64::INFINITY)).unwrap();
+/// let (index, hit) = bvh.hit_with_index(&ray, Interval::FORWARD).unwrap();
 /// assert_eq!((index, hit.t), (41, 1.0));
 /// ```
 #[derive(Clone, Debug)]
@@ -132,6 +132,24 @@ impl<T: Hittable> Bvh<T> {
     }
 }
 
+/// Collects objects into a tree, as [`Bvh::new`] of the collected `Vec`.
+///
+/// ```
+/// use hitkit::glam::DVec3;
+/// use hitkit::{Bvh, Hittable, Interval, Ray, Sphere};
+///
+/// let row: Bvh<Sphere> = (0..10)
+///     .map(|i| Sphere::new(DVec3::new(3.0 * f64::from(i), 0.0, 0.0), 1.0).unwrap())
+///     .collect();
+/// let ray = Ray::new(DVec3::new(9.0, 5.0, 0.0), DVec3::NEG_Y);
+/// assert_eq!(row.hit(&ray, Interval::FORWARD).unwrap().t, 4.0);
+/// ```
+impl<T: Hittable> FromIterator<T> for Bvh<T> {
+    fn from_iter<I: IntoIterator<Item = T>>(objects: I) -> Self {
+        Self::new(objects.into_iter().collect())
+    }
+}
+
 impl<T: Hittable> Hittable for Bvh<T> {
     #[inline]
     fn hit(&self, ray: &Ray, ray_t: Interval) -> Option<HitRecord> {
@@ -152,18 +170,5 @@ impl<T: Hittable> Hittable for Bvh<T> {
             found
         });
         found
-    }
-}
-
-/// A uniform mixture of all its objects, as for a slice (see [`PdfHittable`] for `[T]`).
-impl<T: PdfHittable> PdfHittable for Bvh<T> {
-    #[inline]
-    fn pdf_value(&self, origin: glam::DVec3, direction: glam::DVec3) -> f64 {
-        self.objects.as_slice().pdf_value(origin, direction)
-    }
-
-    #[inline]
-    fn sample_direction(&self, origin: glam::DVec3, u: glam::DVec2) -> glam::DVec3 {
-        self.objects.as_slice().sample_direction(origin, u)
     }
 }

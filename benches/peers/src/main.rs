@@ -227,7 +227,7 @@ fn run_hitkit(quads: &[Quad<Triangle>], runs: usize, ray_sets: &[&[Ray]]) -> Mea
         || quads.to_vec(),
         Bvh::new,
         |bvh, ray| {
-            bvh.hit_with_index(ray, Interval::new(0.0, f64::INFINITY))
+            bvh.hit_with_index(ray, Interval::FORWARD)
                 .map(|(index, hit)| (index, hit.t))
         },
         ray_sets,
@@ -539,7 +539,7 @@ fn run_offsets(name: &str, tris: &[scene::Tri], args: &Args) -> Vec<String> {
             })
         };
         let hitkit_tests = per_ray(&|ray| {
-            hitkit_bvh.hit(ray, Interval::new(0.0, f64::INFINITY));
+            hitkit_bvh.hit(ray, Interval::FORWARD);
         });
         let obvhs_tests = per_ray(&|ray| {
             let obvhs_ray =

@@ -25,7 +25,7 @@ const MAX_SOLID_ANGLE: f64 = 6.22;
 
 /// The shapes with a solid-angle sampler.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(crate) enum Polygon {
+pub(crate) enum Spherical {
     /// `q`, `q + u`, `q + u + v`, `q + v` with `u` perpendicular to `v`.
     Rectangle,
     /// `q`, `q + u`, `q + v`.
@@ -35,7 +35,7 @@ pub(crate) enum Polygon {
 /// A polygon as seen from an origin where it is sampled by solid angle: its scaled frame,
 /// the unit directions to its first three corners, and its solid angle.
 pub(crate) struct View {
-    polygon: Polygon,
+    polygon: Spherical,
     /// `q - origin`, `u`, `v`, times `scale` (see [`scaled_frame`]).
     frame: [DVec3; 3],
     scale: f64,
@@ -44,7 +44,7 @@ pub(crate) struct View {
     solid_angle: f64,
 }
 
-impl Polygon {
+impl Spherical {
     /// The polygon on `plane` as seen from `origin`, if its solid angle lies where
     /// spherical sampling is used; `None` elsewhere, also for an origin in the plane or at a
     /// corner (solid angle 0 or NaN).
@@ -53,8 +53,8 @@ impl Polygon {
         let [d, u, v] = frame;
         let (a, b, c) = (d.normalize(), (d + u).normalize(), (d + v).normalize());
         let half = match self {
-            Polygon::Triangle => half_solid_angle(a, b, c),
-            Polygon::Rectangle => {
+            Spherical::Triangle => half_solid_angle(a, b, c),
+            Spherical::Rectangle => {
                 // The two triangles' half angles added as the arguments of complex numbers
                 // multiply: one atan2 instead of two. Their sum is below pi (the rectangle's
                 // solid angle below 2 pi), where atan2 returns it unchanged.
@@ -88,8 +88,8 @@ impl View {
     /// uniform in solid angle when `u` is uniform in `[0, 1]^2`.
     pub(crate) fn sample(&self, plane: &Plane, origin: DVec3, u: DVec2) -> DVec3 {
         match self.polygon {
-            Polygon::Rectangle => self.sample_rectangle(u),
-            Polygon::Triangle => onto_triangle(plane, origin, self.sample_triangle(u)),
+            Spherical::Rectangle => self.sample_rectangle(u),
+            Spherical::Triangle => onto_triangle(plane, origin, self.sample_triangle(u)),
         }
     }
 }
@@ -204,10 +204,7 @@ impl View {
 /// `direction` from `origin` moved to the nearest point of the triangle in `(alpha, beta)`
 /// (a point past the long edge is scaled back onto it), as a vector from `origin`.
 fn onto_triangle(plane: &Plane, origin: DVec3, direction: DVec3) -> DVec3 {
-    let Some(hit) = plane.intersect(
-        &Ray::new(origin, direction),
-        Interval::new(0.0, f64::INFINITY),
-    ) else {
+    let Some(hit) = plane.intersect(&Ray::new(origin, direction), Interval::FORWARD) else {
         return direction;
     };
     let (alpha, beta) = (hit.alpha.max(0.0), hit.beta.max(0.0));

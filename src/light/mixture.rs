@@ -50,15 +50,15 @@ impl<T> Mixture<T> {
     /// weight 0 is never sampled (its density does not count either).
     ///
     /// # Errors
-    /// [`GeometryError::InvalidParameter`] if `weights` and `lights` differ in length, if a
-    /// weight is negative, or if all are 0 (with at least one light);
-    /// [`GeometryError::NonFinite`] if a weight is NaN or infinite.
+    /// [`GeometryError::LengthMismatch`] if `weights` and `lights` differ in length;
+    /// [`GeometryError::InvalidParameter`] if a weight is negative, or if all are 0 (with at
+    /// least one light); [`GeometryError::NonFinite`] if a weight is NaN or infinite.
     pub fn new(lights: Vec<T>, weights: &[f64]) -> Result<Self, GeometryError> {
         if weights.len() != lights.len() {
-            return Err(GeometryError::InvalidParameter {
-                what: "weights.len()",
-                value: weights.len() as f64,
-                domain: "lights.len()",
+            return Err(GeometryError::LengthMismatch {
+                what: "weights",
+                expected: lights.len(),
+                found: weights.len(),
             });
         }
         for &weight in weights {

@@ -1,0 +1,61 @@
+//! The uniform mixture of lights: a slice, `Vec` or [`Bvh`] of lights picks each with the
+//! same probability. [`Mixture`](crate::Mixture) weighs them.
+
+use alloc::vec::Vec;
+
+use glam::{DVec2, DVec3};
+
+use crate::{Bvh, PdfHittable};
+
+/// A uniform mixture of lights: `sample_direction` picks one with probability `1 / n` (by
+/// `u.x`, whose remaining digits are reused for the light's own sample, so one point of
+/// `[0, 1)^2` still makes one direction), and `pdf_value` is the mean of their densities,
+/// which is the mixture's density. An empty list has density 0 everywhere and samples
+/// the zero direction, which hits nothing.
+impl<T: PdfHittable> PdfHittable for [T] {
+    fn pdf_value(&self, origin: DVec3, direction: DVec3) -> f64 {
+        if self.is_empty() {
+            return 0.0;
+        }
+        // Each density divided first: the sum of the quotients cannot overflow, as the sum
+        // of densities near f64::MAX can.
+        let n = self.len() as f64;
+        self.iter()
+            .map(|light| light.pdf_value(origin, direction) / n)
+            .sum::<f64>()
+    }
+
+    fn sample_direction(&self, origin: DVec3, u: DVec2) -> DVec3 {
+        let Some(last) = self.len().checked_sub(1) else {
+            return DVec3::ZERO;
+        };
+        let scaled = u.x.clamp(0.0, 1.0) * self.len() as f64;
+        let index = (scaled as usize).min(last);
+        let rest = DVec2::new((scaled - index as f64).clamp(0.0, 1.0), u.y);
+        self[index].sample_direction(origin, rest)
+    }
+}
+
+impl<T: PdfHittable> PdfHittable for Vec<T> {
+    #[inline]
+    fn pdf_value(&self, origin: DVec3, direction: DVec3) -> f64 {
+        self.as_slice().pdf_value(origin, direction)
+    }
+    #[inline]
+    fn sample_direction(&self, origin: DVec3, u: DVec2) -> DVec3 {
+        self.as_slice().sample_direction(origin, u)
+    }
+}
+
+/// A uniform mixture of all its objects, as for a slice (see [`PdfHittable`] for `[T]`).
+impl<T: PdfHittable> PdfHittable for Bvh<T> {
+    #[inline]
+    fn pdf_value(&self, origin: DVec3, direction: DVec3) -> f64 {
+        self.objects().pdf_value(origin, direction)
+    }
+
+    #[inline]
+    fn sample_direction(&self, origin: DVec3, u: DVec2) -> DVec3 {
+        self.objects().sample_direction(origin, u)
+    }
+}

@@ -1,0 +1,143 @@
+//! What a hit reports: [`HitRecord`], and the [`MaterialId`] it carries from the shape to
+//! the renderer.
+
+use glam::{DVec2, DVec3};
+
+use crate::Ray;
+
+/// Names a material. The library carries the id from shape to hit record; the renderer
+/// owns the materials and decides what an id means (an index into its own table, say).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub struct MaterialId(pub u32);
+
+/// Where a ray met a surface.
+///
+/// `normal` is unit length and faces against the ray; `front_face` says whether the ray
+/// came from the side the shape's outward normal points to.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct HitRecord {
+    /// Ray parameter of the hit, in units of the ray's direction.
+    pub t: f64,
+    /// The hit point.
+    pub point: DVec3,
+    /// A bound on the absolute error of each coordinate of `point`: the exact surface
+    /// point lies within `point ± point_error`. [`HitRecord::spawn_ray`] uses it.
+    pub point_error: DVec3,
+    /// Unit surface normal, facing against the incoming ray.
+    pub normal: DVec3,
+    /// Whether the ray hit the side the outward normal points to.
+    pub front_face: bool,
+    /// Surface coordinates; each shape documents its mapping.
+    pub uv: DVec2,
+    /// The material of the shape that was hit.
+    pub material: MaterialId,
+}
+
+impl HitRecord {
+    /// A record whose `normal` and `front_face` are set from the shape's unit
+    /// `outward_normal` and the ray's direction; its `point_error` is zero (an exact point),
+    /// its `uv` zero and its material the default, until set with
+    /// [`with_point_error`](Self::with_point_error), [`with_uv`](Self::with_uv) and
+    /// [`with_material`](Self::with_material).
+    ///
+    /// ```
+    /// use hitkit::glam::{DVec2, DVec3};
+    /// use hitkit::{HitRecord, MaterialId, Ray};
+    ///
+    /// let ray = Ray::new(DVec3::new(0.0, 0.0, 2.0), DVec3::new(0.0, 0.0, -1.0));
+    /// // The plane z = 0, outward normal +z: the ray comes from the front.
+    /// let hit = HitRecord::new(&ray, 2.0, DVec3::ZERO, DVec3::Z)
+    ///     .with_point_error(DVec3::splat(1e-16))
+    ///     .with_uv(DVec2::new(0.5, 0.5))
+    ///     .with_material(MaterialId(3));
+    /// assert!(hit.front_face);
+    /// assert_eq!(hit.normal, DVec3::Z);
+    /// ```
+    #[inline]
+    #[must_use]
+    pub fn new(ray: &Ray, t: f64, point: DVec3, outward_normal: DVec3) -> Self {
+        let front_face = ray.direction.dot(outward_normal) < 0.0;
+        let normal = if front_face {
+            outward_normal
+        } else {
+            -outward_normal
+        };
+        Self {
+            t,
+            point,
+            point_error: DVec3::ZERO,
+            normal,
+            front_face,
+            uv: DVec2::ZERO,
+            material: MaterialId::default(),
+        }
+    }
+
+    /// The same record with a bound on the absolute error of each coordinate of `point`.
+    #[inline]
+    #[must_use]
+    pub fn with_point_error(mut self, point_error: DVec3) -> Self {
+        self.point_error = point_error;
+        self
+    }
+
+    /// The same record with surface coordinates `uv`.
+    #[inline]
+    #[must_use]
+    pub fn with_uv(mut self, uv: DVec2) -> Self {
+        self.uv = uv;
+        self
+    }
+
+    /// The same record with material `material`.
+    #[inline]
+    #[must_use]
+    pub fn with_material(mut self, material: MaterialId) -> Self {
+        self.material = material;
+        self
+    }
+
+    /// A ray leaving the hit point along `direction` that does not hit the same surface
+    /// again at `t >= 0`, with no epsilon on the renderer's side: trace it with
+    /// [`Interval::FORWARD`](crate::Interval::FORWARD).
+    ///
+    /// The origin is moved off the surface, to the side `direction` points to, by the
+    /// point's error bound projected on the normal, then rounded one more float away
+    /// (pbrt-v4's `OffsetRayOrigin`).
+    ///
+    /// ```
+    /// use hitkit::{glam::DVec3, Hittable, Interval, Quad, Ray};
+    /// let floor = Quad::new(DVec3::new(-1e9, 0.0, -1e9), DVec3::X * 2e9, DVec3::Z * 2e9).unwrap();
+    /// let down = Ray::new(DVec3::new(1e8 + 0.3, 1.0, 0.7), DVec3::new(0.3, -1.0, 0.1));
+    /// let hit = floor.hit(&down, Interval::FORWARD).unwrap();
+    /// let bounce = hit.spawn_ray(DVec3::new(0.2, 1.0, 0.0));
+    /// assert!(floor.hit(&bounce, Interval::FORWARD).is_none());
+    /// ```
+    #[inline]
+    #[must_use]
+    pub fn spawn_ray(&self, direction: DVec3) -> Ray {
+        let toward = if direction.dot(self.normal) < 0.0 {
+            -self.normal
+        } else {
+            self.normal
+        };
+        // Near the end of f64's range the bound itself overflows; the largest finite offset
+        // then keeps `0 * inf` (a zero normal component) from making the origin NaN.
+        let offset = self.normal.abs().dot(self.point_error).min(f64::MAX);
+        let mut origin = self.point + offset * toward;
+        // One more float away along every axis the normal has a component on, so that the
+        // origin leaves the surface even where the error bound is zero.
+        for axis in 0..3 {
+            if toward[axis] > 0.0 {
+                origin[axis] = origin[axis].next_up();
+            } else if toward[axis] < 0.0 {
+                origin[axis] = origin[axis].next_down();
+            }
+        }
+        // Near the end of the range, the origin stays finite (at the end of it).
+        Ray::new(
+            origin.clamp(DVec3::splat(f64::MIN), DVec3::splat(f64::MAX)),
+            direction,
+        )
+    }
+}
