@@ -81,6 +81,8 @@ pub enum Meets {
 /// let fast = Quad::with_interior(DVec3::ZERO, DVec3::X, DVec3::Y, Exact(Parallelogram)).unwrap();
 /// ```
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(transparent))]
 pub struct Exact<S>(pub S);
 
 impl<S: Interior> Interior for Exact<S> {
@@ -175,6 +177,7 @@ fn meets_polygon(region: &CrossingRegion, rows: &[([f64; 2], f64, f64)]) -> Meet
 /// The parallelogram `0 <= alpha <= 1, 0 <= beta <= 1` with corners `q`, `q + u`,
 /// `q + v`, `q + u + v`. `uv = (alpha, beta)`.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Parallelogram;
 
 impl Interior for Parallelogram {
@@ -197,6 +200,7 @@ impl Interior for Parallelogram {
 /// The triangle `alpha >= 0, beta >= 0, alpha + beta <= 1` with corners `q`, `q + u`,
 /// `q + v`. `uv = (alpha, beta)`.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Triangle;
 
 impl Interior for Triangle {
@@ -233,6 +237,7 @@ impl Interior for Triangle {
 /// `uv = ((alpha + 1) / 2, (beta + 1) / 2)`: the disk's bounding parallelogram mapped onto
 /// `[0, 1]^2`, so the centre is `(0.5, 0.5)`; no seam, unlike polar coordinates.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Disk;
 
 impl Interior for Disk {

@@ -9,6 +9,7 @@
 /// assert!(Interval::EMPTY.is_empty() && Interval::UNIVERSE.contains(1e300));
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Interval {
     /// Lower end.
     pub min: f64,

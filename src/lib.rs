@@ -70,6 +70,8 @@
 //! | `std` | yes | float functions from the standard library |
 //! | `libm` | no | float functions from `libm`, for `no_std` (+ `alloc`) targets |
 //! | `approx` | no | `approx` 0.5's comparison traits for the value types |
+//! | `serde` | no | `Serialize` / `Deserialize` for the value types, and for `Plane`, `Quad`, `Sphere` as what builds them (through their constructors) |
+//! | `rand` | no | `RandomDirection`: sample a light with any `rand` 0.10 generator |
 //!
 //! One of `std` and `libm` must be enabled.
 //!
@@ -104,6 +106,8 @@ mod transform;
 
 #[cfg(feature = "approx")]
 mod impl_approx;
+#[cfg(feature = "serde")]
+mod impl_serde;
 
 pub use glam;
 
@@ -114,6 +118,9 @@ pub use error::GeometryError;
 pub use hittable::{Hittable, PdfHittable};
 pub use interior::{Disk, Exact, Interior, Meets, Parallelogram, Ring, Triangle};
 pub use interval::Interval;
+#[cfg(feature = "rand")]
+#[cfg_attr(docsrs, doc(cfg(feature = "rand")))]
+pub use light::RandomDirection;
 pub use light::{Mixture, Polygon, SampleInterior, Sampling};
 pub use plane::{CrossingRegion, Plane, PlaneHit};
 pub use quad::Quad;

@@ -15,6 +15,7 @@ const TOLERANCE: f64 = 1.0 / (1u64 << 48) as f64;
 /// Where a ray meets a plane: the ray parameter `t` and the plane coordinates of the point,
 /// `q + alpha * u + beta * v`.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct PlaneHit {
     /// Ray parameter, in units of the ray's direction.
     pub t: f64,

@@ -11,6 +11,7 @@ use glam::DVec3;
 /// assert_eq!(ray.at(1.5), DVec3::new(0.0, 0.0, -3.0));
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Ray {
     /// Where the ray starts.
     pub origin: DVec3,

@@ -8,6 +8,8 @@ use crate::Ray;
 /// Names a material. The library carries the id from shape to hit record; the renderer
 /// owns the materials and decides what an id means (an index into its own table, say).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, PartialOrd, Ord, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(transparent))]
 pub struct MaterialId(pub u32);
 
 /// Where a ray met a surface.
@@ -15,6 +17,7 @@ pub struct MaterialId(pub u32);
 /// `normal` is unit length and faces against the ray; `front_face` says whether the ray
 /// came from the side the shape's outward normal points to.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct HitRecord {
     /// Ray parameter of the hit, in units of the ray's direction.
     pub t: f64,

@@ -75,6 +75,13 @@ impl Sphere {
         self.radius
     }
 
+    /// The material.
+    #[inline]
+    #[must_use]
+    pub fn material(&self) -> MaterialId {
+        self.material
+    }
+
     /// The two ray parameters where the ray meets the sphere, nearer first, or `None`.
     ///
     /// The discriminant comes from the squared distance between the centre and the ray's

@@ -14,6 +14,7 @@ use crate::{PdfHittable, Quad, Sampling};
 /// A whole polygon with a solid-angle sampler: what [`SampleInterior::polygon`] returns
 /// for a shape that is one.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[non_exhaustive]
 pub enum Polygon {
     /// The whole parallelogram (`0 <= alpha, beta <= 1`); sampled by solid angle where

@@ -8,6 +8,8 @@
 //! - `spherical.rs`: the solid-angle samplers of rectangles and triangles.
 //! - `uniform.rs`: a slice, `Vec` or [`Bvh`](crate::Bvh) of lights as their uniform
 //!   mixture; [`Mixture`] (`mixture.rs`): lights picked by weight.
+//! - `RandomDirection` (`random.rs`, the `rand` feature): a light sampled with a `rand`
+//!   generator.
 //!
 //! Each shape's own [`PdfHittable`](crate::PdfHittable) implementation lives beside the
 //! shape ([`Quad`](crate::Quad), [`Sphere`](crate::Sphere),
@@ -15,11 +17,15 @@
 
 mod interior;
 mod mixture;
+#[cfg(feature = "rand")]
+mod random;
 mod sampling;
 mod spherical;
 mod uniform;
 
 pub use interior::{Polygon, SampleInterior};
 pub use mixture::Mixture;
+#[cfg(feature = "rand")]
+pub use random::RandomDirection;
 pub use sampling::Sampling;
 pub(crate) use spherical::{Spherical, View};

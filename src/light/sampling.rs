@@ -2,6 +2,7 @@
 
 /// How a [`Quad`](crate::Quad) light chooses directions toward itself ([`Quad::with_sampling`](crate::Quad::with_sampling)).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[non_exhaustive]
 pub enum Sampling {
     /// Rectangles and triangles uniformly in the solid angle they subtend (Ureña et al.

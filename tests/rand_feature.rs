@@ -1,0 +1,38 @@
+//! The `rand` feature: any light sampled with a `rand` generator, through a trait object
+//! too, gives the direction `sample_direction` gives for the same two numbers, and its
+//! density.
+#![cfg(feature = "rand")]
+
+mod support;
+
+use hitkit::glam::{DVec2, DVec3};
+use hitkit::{PdfHittable, RandomDirection};
+use rand::rngs::SmallRng;
+use rand::{Rng, SeedableRng};
+
+#[test]
+fn random_direction_is_sample_direction_of_the_generators_numbers() {
+    let lights = support::four_lights();
+    let origin = DVec3::new(0.1, 0.2, -0.3);
+    let mut rng = SmallRng::seed_from_u64(11);
+    let mut twin = rng.clone();
+    let mut hits = 0;
+    for _ in 0..1000 {
+        let (direction, pdf) = lights.random_direction(origin, &mut rng);
+        let scale = 1.0 / (1u64 << 53) as f64;
+        let u = DVec2::new(
+            (twin.next_u64() >> 11) as f64 * scale,
+            (twin.next_u64() >> 11) as f64 * scale,
+        );
+        assert_eq!(direction, lights.sample_direction(origin, u));
+        assert_eq!(pdf, lights.pdf_value(origin, direction));
+        assert!(pdf.is_finite() && pdf >= 0.0);
+        hits += usize::from(pdf > 0.0);
+        // A trait object takes the same generator.
+        let light: &dyn PdfHittable = lights[0].as_ref();
+        let (d, p) = light.random_direction(origin, &mut twin.clone());
+        assert_eq!(p, light.pdf_value(origin, d));
+    }
+    // Every light sees the origin: nearly every sample aims at one.
+    assert!(hits > 990, "{hits}");
+}
