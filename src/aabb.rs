@@ -1,3 +1,6 @@
+//! [`Aabb`]: the padded axis-aligned box, and the slab test a shape and a [`Bvh`](crate::Bvh)
+//! share, which keeps rays lying in a slab plane and never loses a hit to rounding.
+
 use glam::DVec3;
 
 use crate::math::gamma;

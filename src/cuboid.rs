@@ -1,3 +1,6 @@
+//! [`Cuboid`]: the axis-aligned box as six quads (the book's `box`), watertight along its
+//! edges because neighbouring faces share their corners bitwise.
+
 use glam::DVec3;
 
 use crate::{Aabb, GeometryError, HitRecord, Hittable, Interval, MaterialId, Quad, Ray};

@@ -1,3 +1,7 @@
+//! [`Plane`]: the infinite plane through `q` spanned by `u` and `v`, its ray crossing as
+//! `(t, alpha, beta)` ([`PlaneHit`]), and the region where the exact crossing can be
+//! ([`CrossingRegion`]), which the planar shapes decide by.
+
 use glam::{DVec2, DVec3};
 
 use crate::math::{Dd, UNIT_ROUNDOFF, gamma, power_of_two_scale, sqrt, unit_and_length};

@@ -1,3 +1,5 @@
+//! [`Ray`]: an origin and a direction.
+
 use glam::DVec3;
 
 /// A ray `origin + t * direction`.
