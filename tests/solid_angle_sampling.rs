@@ -157,3 +157,61 @@ fn solid_angle_sampling_agrees_with_area_sampling_with_less_variance_near_the_li
         }
     }
 }
+
+/// A user's wrapper of an interior: `polygon` says which solid-angle sampler fits, and a
+/// wrapper that forwards it (as `Exact` does) is sampled as the shape it wraps; one that
+/// does not is sampled by area.
+#[test]
+fn the_polygon_a_shape_names_decides_its_sampler() {
+    use hitkit::{Exact, Interior, Meets, Parallelogram, Polygon, SampleInterior};
+
+    struct Wrapped<S>(S, bool);
+    impl<S: Interior> Interior for Wrapped<S> {
+        fn contains(&self, alpha: f64, beta: f64) -> bool {
+            self.0.contains(alpha, beta)
+        }
+        fn meets(&self, region: &hitkit::CrossingRegion) -> Meets {
+            self.0.meets(region)
+        }
+    }
+    impl<S: SampleInterior> SampleInterior for Wrapped<S> {
+        fn area(&self) -> f64 {
+            self.0.area()
+        }
+        fn sample(&self, u: DVec2) -> DVec2 {
+            self.0.sample(u)
+        }
+        fn polygon(&self) -> Option<Polygon> {
+            if self.1 { self.0.polygon() } else { None }
+        }
+    }
+
+    assert_eq!(Parallelogram.polygon(), Some(Polygon::Parallelogram));
+    assert_eq!(Triangle.polygon(), Some(Polygon::Triangle));
+    assert_eq!(Exact(Triangle).polygon(), Some(Polygon::Triangle));
+    assert_eq!(hitkit::Disk.polygon(), None);
+
+    let q = DVec3::new(-0.5, -0.5, 0.0);
+    let origin = DVec3::new(0.1, -0.2, 0.3);
+    let quad = |shape| Quad::with_interior(q, DVec3::X, DVec3::Y, shape).unwrap();
+    let by_solid_angle = quad(Wrapped(Triangle, true));
+    let by_area = quad(Wrapped(Triangle, false));
+    let u = DVec2::new(0.3, 0.6);
+    // The same sample as the plain triangle's (solid angle) and as its area sampling.
+    let plain = Quad::with_interior(q, DVec3::X, DVec3::Y, Triangle).unwrap();
+    let d = by_solid_angle.sample_direction(origin, u);
+    assert_eq!(d, plain.sample_direction(origin, u));
+    assert_eq!(
+        by_solid_angle.pdf_value(origin, d),
+        plain.pdf_value(origin, d)
+    );
+    let area = plain.with_sampling(Sampling::Area);
+    let d = by_area.sample_direction(origin, u);
+    assert_eq!(d, area.sample_direction(origin, u));
+    assert_eq!(by_area.pdf_value(origin, d), area.pdf_value(origin, d));
+    // And the two samplers differ here (the light is near), so the test tells them apart.
+    assert_ne!(
+        by_solid_angle.sample_direction(origin, u),
+        by_area.sample_direction(origin, u)
+    );
+}
