@@ -10,6 +10,17 @@ use super::Color;
 use super::Scene;
 use super::render::{Rendered, Settings, render};
 
+/// The largest image width the examples render: 8K. The pixels are kept as `f64` RGB
+/// (24 bytes each), so a square image of this width takes 1.5 GiB; wider ones would take
+/// more memory than a workstation has before the first pixel is traced.
+pub const MAX_WIDTH: usize = 8192;
+/// The most samples per pixel: a million, which at 400x400 is days of rendering.
+pub const MAX_SAMPLES: usize = 1 << 20;
+/// The longest path: Russian roulette ends nearly every path long before it.
+pub const MAX_DEPTH: usize = 10_000;
+/// The most worker threads.
+pub const MAX_THREADS: usize = 1024;
+
 /// What each example may change from the command line, with its defaults.
 #[derive(Clone, Debug)]
 pub struct Options {
@@ -27,12 +38,12 @@ impl Options {
             "Renders the {example} scene to a PNG.\n\n\
              Usage: cargo run --release --example {example} -- [OPTIONS]\n\n\
              Options:\n  \
-             --width N     image width in pixels [default: {}]\n  \
-             --samples N   samples per pixel [default: {}]\n  \
-             --depth N     longest path, in bounces [default: {}]\n  \
+             --width N     image width in pixels, 1 to {MAX_WIDTH} [default: {}]\n  \
+             --samples N   samples per pixel, 1 to {MAX_SAMPLES} [default: {}]\n  \
+             --depth N     longest path, in bounces, 1 to {MAX_DEPTH} [default: {}]\n  \
              --seed S      random seed; the same seed gives the same image [default: {}]\n  \
-             --output PATH where to write the PNG [default: {}]\n  \
-             --threads N   worker threads, 0 for one per core [default: {}]\n  \
+             --output PATH where to write the PNG (checked before rendering) [default: {}]\n  \
+             --threads N   worker threads, 0 for one per core, at most {MAX_THREADS} [default: {}]\n  \
              -h, --help    this text",
             self.width,
             self.samples,
@@ -43,25 +54,26 @@ impl Options {
         )
     }
 
-    /// `Ok(None)` for `--help`.
-    fn parse(mut self, args: impl IntoIterator<Item = String>) -> Result<Option<Self>, String> {
+    /// These options changed by `args` (the command line without the program's name);
+    /// `Ok(None)` for `--help`, an error naming the flag for a bad or out-of-range value.
+    pub fn parse(mut self, args: impl IntoIterator<Item = String>) -> Result<Option<Self>, String> {
         let mut args = args.into_iter();
         while let Some(flag) = args.next() {
             if flag == "-h" || flag == "--help" {
                 return Ok(None);
             }
             let mut value = || args.next().ok_or_else(|| format!("{flag} needs a value"));
-            let count = |v: String, min: usize| match v.parse::<usize>() {
-                Ok(n) if n >= min => Ok(n),
+            let count = |v: String, min: usize, max: usize| match v.parse::<usize>() {
+                Ok(n) if (min..=max).contains(&n) => Ok(n),
                 _ => Err(format!(
-                    "{flag}: `{v}` is not a whole number of at least {min}"
+                    "{flag}: `{v}` is not a whole number from {min} to {max}"
                 )),
             };
             match flag.as_str() {
-                "--width" => self.width = count(value()?, 1)?,
-                "--samples" => self.samples = count(value()?, 1)?,
-                "--depth" => self.depth = count(value()?, 1)?,
-                "--threads" => self.threads = count(value()?, 0)?,
+                "--width" => self.width = count(value()?, 1, MAX_WIDTH)?,
+                "--samples" => self.samples = count(value()?, 1, MAX_SAMPLES)?,
+                "--depth" => self.depth = count(value()?, 1, MAX_DEPTH)?,
+                "--threads" => self.threads = count(value()?, 0, MAX_THREADS)?,
                 "--seed" => {
                     let v = value()?;
                     self.seed = v
@@ -95,6 +107,11 @@ pub fn run<W: Hittable>(
             return ExitCode::from(2);
         }
     };
+    // Before the render, not after it: a long render is not lost to a typo in the path.
+    if let Err(message) = check_output(&options.output) {
+        eprintln!("error: {message}");
+        return ExitCode::from(2);
+    }
     let scene = scene(&options);
     let settings = Settings {
         samples: options.samples,
@@ -125,6 +142,29 @@ pub fn run<W: Hittable>(
         elapsed.as_secs_f64()
     );
     ExitCode::SUCCESS
+}
+
+/// Whether a PNG can be written to `path`: its directory exists and the file can be opened
+/// for writing. An existing file is left as it is (not truncated), and a file this check
+/// creates is removed again. The error names the path and what the system said.
+pub fn check_output(path: &Path) -> Result<(), String> {
+    let cannot = |e: std::io::Error| format!("cannot write {}: {e}", path.display());
+    if path.is_dir() {
+        return Err(format!(
+            "cannot write {}: it is a directory",
+            path.display()
+        ));
+    }
+    if path.exists() {
+        std::fs::OpenOptions::new()
+            .write(true)
+            .open(path)
+            .map_err(cannot)?;
+    } else {
+        std::fs::File::create(path).map_err(cannot)?;
+        std::fs::remove_file(path).map_err(cannot)?;
+    }
+    Ok(())
 }
 
 /// 8-bit sRGB with the book's gamma 2.

@@ -52,8 +52,6 @@ impl Rendered {
 /// so the estimate stays unbiased.
 const ROULETTE_FROM: usize = 3;
 
-const FORWARD: Interval = Interval::new(0.0, f64::INFINITY);
-
 /// Renders `scene` with exactly the effects `effects` (normally `scene.effects()`): the
 /// choice picks one monomorphized integrator for the whole image, so nothing is decided
 /// per ray.
@@ -169,7 +167,7 @@ fn radiance<W: Hittable, const BG: bool, const EMIT: bool, const LIGHTS: bool>(
     let mut color = Color::ZERO;
     let mut throughput = Color::ONE;
     for depth in 0..max_depth {
-        let Some(hit) = scene.world.hit(&ray, FORWARD) else {
+        let Some(hit) = scene.world.hit(&ray, Interval::FORWARD) else {
             if BG {
                 color += throughput * scene.background.color(ray.direction);
             }

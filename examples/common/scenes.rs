@@ -5,7 +5,11 @@ use hitkit::{MaterialId, Quad};
 
 use super::{Background, CameraSettings, Color, Material, Scene};
 
-/// The book's five quads, each its own colour, under the sky. Five quads are traced fastest
+/// The quads scene's background: the book's `cam.background`.
+pub const QUADS_BACKGROUND: Color = Color::new(0.70, 0.80, 1.00);
+
+/// The book's five quads, each its own colour, against the book's flat light blue
+/// background (0.70, 0.80, 1.00), as in its image of the scene. Five quads are traced fastest
 /// as a plain list (a `Bvh` of them measured 20% slower: its box tests cost more than the
 /// quad tests they save).
 pub fn quads_scene(width: usize) -> Scene<Vec<Quad>> {
@@ -32,7 +36,7 @@ pub fn quads_scene(width: usize) -> Scene<Vec<Quad>> {
         world,
         materials,
         lights: Vec::new(),
-        background: Background::Sky,
+        background: Background::Solid(QUADS_BACKGROUND),
         camera: CameraSettings {
             width,
             height: width,

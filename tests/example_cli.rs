@@ -1,0 +1,84 @@
+//! The examples' command line: absurd sizes and unwritable outputs are refused with an error
+//! that names them, before anything is rendered.
+
+#[path = "../examples/common/mod.rs"]
+mod common;
+
+use std::path::PathBuf;
+
+use common::cli::{MAX_SAMPLES, MAX_WIDTH, Options, check_output};
+
+fn defaults() -> Options {
+    Options {
+        width: 400,
+        samples: 100,
+        depth: 50,
+        seed: 0,
+        output: "out.png".into(),
+        threads: 0,
+    }
+}
+
+fn parse(args: &[&str]) -> Result<Option<Options>, String> {
+    defaults().parse(args.iter().map(|s| s.to_string()))
+}
+
+#[test]
+fn sizes_in_range_are_taken_and_absurd_ones_refused_naming_the_flag() {
+    let o = parse(&[
+        "--width",
+        "640",
+        "--samples",
+        "16",
+        "--depth",
+        "8",
+        "--threads",
+        "1",
+    ])
+    .unwrap()
+    .unwrap();
+    assert_eq!((o.width, o.samples, o.depth, o.threads), (640, 16, 8, 1));
+    let limit = MAX_WIDTH.to_string();
+    assert_eq!(
+        parse(&["--width", &limit]).unwrap().unwrap().width,
+        MAX_WIDTH
+    );
+    for (flag, bad) in [
+        ("--width", (MAX_WIDTH + 1).to_string()),
+        ("--width", "0".to_string()),
+        ("--width", "100000000000".to_string()),
+        ("--width", "-3".to_string()),
+        ("--samples", "0".to_string()),
+        ("--samples", (MAX_SAMPLES + 1).to_string()),
+        ("--depth", "0".to_string()),
+        ("--threads", "1e9".to_string()),
+    ] {
+        let error = parse(&[flag, &bad]).expect_err(&bad);
+        assert!(error.starts_with(flag) && error.contains(&bad), "{error}");
+    }
+    assert!(parse(&["--width"]).unwrap_err().contains("needs a value"));
+    assert!(parse(&["--help"]).unwrap().is_none());
+}
+
+#[test]
+fn an_output_that_cannot_be_written_is_refused_and_a_good_one_left_alone() {
+    let dir = std::env::temp_dir().join(format!("hitkit-example-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    // A directory that does not exist.
+    let missing = dir.join("no such directory").join("out.png");
+    let error = check_output(&missing).unwrap_err();
+    assert!(error.contains("no such directory"), "{error}");
+    // A directory where the file should be.
+    let error = check_output(&dir).unwrap_err();
+    assert!(error.contains("is a directory"), "{error}");
+    // A new file: writable, and not left behind by the check.
+    let new: PathBuf = dir.join("new.png");
+    check_output(&new).unwrap();
+    assert!(!new.exists());
+    // An existing file: writable, and not truncated by the check.
+    let old = dir.join("old.png");
+    std::fs::write(&old, b"keep").unwrap();
+    check_output(&old).unwrap();
+    assert_eq!(std::fs::read(&old).unwrap(), b"keep");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
