@@ -22,6 +22,7 @@ use hitkit::{
     Parallelogram, PdfHittable, Plane, Quad, Ray, Ring, Sphere, Transformed, Triangle,
 };
 use proptest::prelude::*;
+use support::distance::{planar_bound, to_polygon};
 use support::{SplitMix, brute_force};
 
 const FORWARD: Interval = Interval::FORWARD;
@@ -48,38 +49,6 @@ fn placements() -> impl Iterator<Item = (f64, f64)> {
 /// A rotation about a random axis by a random angle, as a user's `from_axis_angle` makes.
 fn rotation(rng: &mut SplitMix) -> DMat3 {
     DMat3::from_axis_angle(rng.direction(), std::f64::consts::TAU * rng.next_f64())
-}
-
-/// The contract's bound on how far a reported hit is from the true planar shape.
-fn planar_bound(q: DVec3, u: DVec3, v: DVec3) -> f64 {
-    let m = q.abs().max_element() + u.abs().max_element() + v.abs().max_element();
-    let s = u.cross(v).length() / (u.length() * v.length());
-    m / (s * s) / (1u64 << 43) as f64
-}
-
-/// The distance from `p` to the segment from `a` to `b`.
-fn to_segment(p: DVec3, a: DVec3, b: DVec3) -> f64 {
-    let e = b - a;
-    let k = ((p - a).dot(e) / e.dot(e)).clamp(0.0, 1.0);
-    (p - (a + k * e)).length()
-}
-
-/// The distance from `p` to a convex planar polygon (corners in order, on one plane).
-fn to_polygon(p: DVec3, corners: &[DVec3]) -> f64 {
-    let n = (corners[1] - corners[0])
-        .cross(corners[2] - corners[0])
-        .normalize();
-    let height = n.dot(p - corners[0]);
-    let inside = (0..corners.len()).all(|i| {
-        let (a, b) = (corners[i], corners[(i + 1) % corners.len()]);
-        (b - a).cross(p - a).dot(n) >= 0.0
-    });
-    if inside {
-        return height.abs();
-    }
-    (0..corners.len())
-        .map(|i| to_segment(p, corners[i], corners[(i + 1) % corners.len()]))
-        .fold(f64::INFINITY, f64::min)
 }
 
 /// The distance from `p` to the annulus `inner R <= |x - q| <= R` of the circle of radius

@@ -2,6 +2,7 @@
 //! benches use), and a set of lights.
 #![allow(dead_code)]
 
+pub mod distance;
 #[path = "scene.rs"]
 mod scene;
 

@@ -5,10 +5,11 @@ use std::hint::black_box;
 
 use hitkit::{Aabb, Hittable, Interval, Quad, Ray};
 
-use crate::book::{self, BookBox, BookQuad, BookShape};
-use crate::boxes::{BoxRay, Boxes};
-use crate::geometry::build_all;
-use crate::tally::{Failure, Measured, Row, Tally, median_ns_per_ray, row, short};
+use crate::numbers::short;
+use crate::rows::book::{self, BookBox, BookQuad, BookShape};
+use crate::rows::quads::build_all;
+use crate::rows::tally::{Failure, Measured, Row, Tally, median_ns_per_ray, row};
+use crate::workloads::boxes::{BOX_OFFSETS, BoxRay, Boxes};
 
 /// A box test and the boxes it runs on, as the boxes rows run them.
 #[derive(Clone, Copy, Debug)]
@@ -135,26 +136,35 @@ pub fn box_rows(boxes: &Boxes, repetitions: usize) -> Result<(Vec<Row>, BoxNotes
         leaf_rejected: accepted.iter().filter(|&&a| !a).count() as u64,
         rays: boxes.rays.len(),
     };
+    let farthest = short(BOX_OFFSETS[BOX_OFFSETS.len() - 1]);
     let tests = [
         (
             BoxTest::Book,
-            "box test: the book's slab test, 0.0001 padding",
-            "nothing (the baseline)",
+            format!(
+                "box test: the book's slab test, {} padding",
+                book::BOX_PADDING
+            ),
+            "nothing (the baseline)".to_string(),
         ),
         (
             BoxTest::BookOnHitkitBox,
-            "box test: the book's slab test on hitkit's box",
-            "hitkit's boxes alone: relative padding survives rounding at 6e11, and growth by the corners' rounding takes box faces off these rays' slab planes",
+            "box test: the book's slab test on hitkit's box".to_string(),
+            format!(
+                "hitkit's boxes alone: relative padding survives rounding at {farthest}, and \
+                 growth by the corners' rounding takes box faces off these rays' slab planes"
+            ),
         ),
         (
             BoxTest::HitkitOnTightBox,
-            "box test: hitkit `Aabb::hit` on `Aabb::new(q, q + u + v)`",
-            "the slab test alone: a ray lying in a box face (0 * inf = NaN) hits; relative padding of flat sides",
+            "box test: hitkit `Aabb::hit` on `Aabb::new(q, q + u + v)`".to_string(),
+            "the slab test alone: a ray lying in a box face (0 * inf = NaN) hits; relative \
+             padding of flat sides"
+                .to_string(),
         ),
         (
             BoxTest::Hitkit,
-            "box test: hitkit `Aabb::hit` on the quad's box",
-            "both: hitkit's default, a quad's `bounding_box()` tested by `Aabb::hit`",
+            "box test: hitkit `Aabb::hit` on the quad's box".to_string(),
+            "both: hitkit's default, a quad's `bounding_box()` tested by `Aabb::hit`".to_string(),
         ),
     ];
     let rows = tests

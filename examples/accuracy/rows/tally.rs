@@ -11,7 +11,7 @@ pub enum Failure {
     /// A ray aimed at a shared edge or corner hits none of the shapes sharing it.
     Crack,
     /// A hit whose point lies farther from the true shape than the contract's bound,
-    /// `2^-43 M / s^2` (see `distance::contract_bound`).
+    /// `2^-43 M / s^2` (see `contract_distance::planar_bound`).
     FalseHit,
     /// A spawned ray hits the surface it left.
     SelfHit,
@@ -108,8 +108,8 @@ pub struct Part {
 
 /// One row of the table.
 pub struct Row {
-    pub choice: &'static str,
-    pub fixes: &'static str,
+    pub choice: String,
+    pub fixes: String,
     pub measured: Measured,
 }
 
@@ -134,10 +134,10 @@ impl Measured {
 }
 
 /// A row from its texts and what was measured.
-pub fn row(choice: &'static str, fixes: &'static str, measured: Measured) -> Row {
+pub fn row(choice: impl Into<String>, fixes: impl Into<String>, measured: Measured) -> Row {
     Row {
-        choice,
-        fixes,
+        choice: choice.into(),
+        fixes: fixes.into(),
         measured,
     }
 }
@@ -153,18 +153,4 @@ pub fn median_ns_per_ray(repetitions: usize, rays: usize, mut run: impl FnMut() 
         .collect();
     times.sort_by(f64::total_cmp);
     times[times.len() / 2] * 1e9 / rays.max(1) as f64
-}
-
-/// `1e12`, `1`, `1e-6`, `6e11`: a placement's numbers as the text prints them.
-pub fn short(x: f64) -> String {
-    if x == 0.0 || (1.0..10.0).contains(&x) {
-        return format!("{x}");
-    }
-    let exponent = x.abs().log10().floor() as i32;
-    let mantissa = x / 10f64.powi(exponent);
-    if (mantissa - 1.0).abs() < 1e-9 {
-        format!("1e{exponent}")
-    } else {
-        format!("{mantissa}e{exponent}")
-    }
 }

@@ -7,9 +7,9 @@ use hitkit::{Aabb, HitRecord, Hittable, Interval, MaterialId, Ray};
 /// The book's renderer traces every ray over `(0.001, infinity)`.
 pub const T_MIN: f64 = 0.001;
 /// Below this `|n . d|` the book calls a ray parallel to a quad.
-const PARALLEL_EPSILON: f64 = 1e-8;
+pub const PARALLEL_EPSILON: f64 = 1e-8;
 /// The book pads every box side thinner than this to this width.
-const BOX_PADDING: f64 = 0.0001;
+pub const BOX_PADDING: f64 = 0.0001;
 
 /// Which region of the plane the book's test accepts, in `(alpha, beta)`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

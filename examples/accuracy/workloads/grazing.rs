@@ -5,9 +5,11 @@
 use hitkit::Ray;
 use hitkit::glam::DVec3;
 
-use crate::distance::Outline;
-use crate::edges::{PLACEMENTS, far_distance, ray_through};
-use crate::frame::{Frame, QuadSpec, Rng, SEED};
+use crate::numbers::{decades, short};
+use crate::workloads::edges::{
+    FAR_EXPONENTS, PLACEMENTS, START_DISTANCE, far_distance, ray_through,
+};
+use crate::workloads::frame::{CROSSING_COSINE, Frame, Outline, QuadSpec, Rng, SEED};
 
 /// Shapes of each kind (parallelogram, triangle) per placement.
 pub const SHAPES_PER_KIND: usize = 4;
@@ -177,5 +179,40 @@ fn random_shape(rng: &mut Rng, frame: &Frame) -> QuadSpec {
         q: frame.point(-0.5 * (local_u + local_v)),
         u: scaled(local_u),
         v: scaled(local_v),
+    }
+}
+
+impl Grazing {
+    /// What the workload is, from the constants that build it, for the printed text.
+    pub fn describe(&self) -> String {
+        let approached = |a: Approach| self.rays.iter().filter(|r| r.approach == a).count();
+        format!(
+            "- **grazing** ({} rays): at the same placements, {per_kind} parallelograms and \
+             {per_kind} triangles each ({shapes} shapes), built from `(q, u, v)` with `|u|` and \
+             `|v|` of {lo_len} to {hi_len} scale units at {lo_angle} to {hi_angle} degrees to \
+             each other, under a random rotation. Rays aimed at points of the shape's plane \
+             outside it by {outside} scale units (as rounding of the target allows), beside an \
+             edge or (one in {corner}) past a corner: {} arriving along the plane at slopes of \
+             {slopes}, from either side, from {start} scale units before the target; and {} from \
+             {far_distances} scale units away, crossing the plane at a cosine of at least \
+             {crossing}. **False hit**: a hit whose point lies farther from the shape than the \
+             contract's bound (below); a ray that passes within the bound of the shape may hit \
+             it.",
+            self.rays.len(),
+            approached(Approach::Grazing),
+            approached(Approach::Afar),
+            per_kind = SHAPES_PER_KIND,
+            shapes = self.shapes.len(),
+            lo_len = EDGE_LENGTHS.0,
+            hi_len = EDGE_LENGTHS.1,
+            lo_angle = UV_ANGLES.0,
+            hi_angle = UV_ANGLES.1,
+            outside = decades(OUTSIDE_EXPONENTS),
+            corner = PAST_CORNER_ONE_IN,
+            slopes = decades((SLOPE_EXPONENTS.1, SLOPE_EXPONENTS.0)),
+            start = short(START_DISTANCE),
+            far_distances = decades(FAR_EXPONENTS),
+            crossing = CROSSING_COSINE,
+        )
     }
 }

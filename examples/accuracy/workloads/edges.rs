@@ -4,7 +4,8 @@
 use hitkit::Ray;
 use hitkit::glam::DVec3;
 
-use crate::frame::{Frame, Lattice, QuadSpec, Rng, SEED};
+use crate::numbers::{decades, short};
+use crate::workloads::frame::{Frame, Lattice, QuadSpec, Rng, SEED};
 
 /// Where the workloads put their geometry: `(offset, scale)`, the distance of the geometry
 /// from the origin (along a fixed direction off the axes) and its size.
@@ -344,5 +345,80 @@ impl Edges {
             far_boxes,
             far_rounded_boxes,
         }
+    }
+}
+
+/// The placements, as the text prints them: `offset x scale, ...`.
+pub fn placements() -> String {
+    PLACEMENTS
+        .iter()
+        .map(|&(offset, scale)| format!("{} x {}", short(offset), short(scale)))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+impl Edges {
+    /// Every ray of the workload.
+    pub fn ray_count(&self) -> usize {
+        self.groups().iter().map(|g| g.rays.len()).sum()
+    }
+
+    fn groups(&self) -> [&Group; 7] {
+        [
+            &self.boxes,
+            &self.rounded_boxes,
+            &self.coplanar,
+            &self.triangles,
+            &self.rounded_coplanar,
+            &self.far_boxes,
+            &self.far_rounded_boxes,
+        ]
+    }
+
+    /// What the workload is, from the constants that build it, for the printed text.
+    pub fn describe(&self) -> String {
+        let farthest = PLACEMENTS
+            .iter()
+            .map(|&(offset, _)| offset)
+            .fold(0.0, f64::max);
+        format!(
+            "- **edges** ({} rays): a unit box under a random rotation, built in world space as \
+             six quads each from its own corner (`q` one of the face's corners, `u` and `v` \
+             differences of corners), at (offset x scale) {placements}. Corners are `offset + R \
+             * local corner` with `R`'s columns rounded to a power-of-two grid so that every \
+             corner is an exact sum: the faces close exactly (`q + u + v` is the fourth corner). \
+             Rays from {start} scale units outside, entering the box (cosine at least {inward} \
+             with the inward normal of each face they aim at), aimed at points on its edges \
+             (`corner + s (other corner - corner)`, `s` in [{margin}, {far_margin}]) and at its \
+             corners ({} rays); plus rays at the shared edge of two coplanar quads (each built \
+             from its far corner; {} rays) and at the shared diagonal of two triangles ({} \
+             rays), on the same kind of grid and placements. The same boxes ({} rays) and \
+             coplanar pairs ({} rays) again with each corner computed as `offset + R * local \
+             corner` and rounded on its own, as a box built face by face in world space is: a \
+             quad's `q + u + v` then misses the fourth corner by up to an ulp of the coordinates \
+             ({ulp:.1e} at {farthest}). And rays from far away, {far_distances} scale units, at \
+             the same edge and corner points of the exact ({} rays) and rounded ({} rays) boxes, \
+             entering as the near rays do: their origins round by an ulp of that distance, which \
+             can move them off the edge to either side, so each is aimed {inset} times that \
+             rounding (and the target's) inside the box, still within a few ulps of its edge. \
+             **Crack**: the ray hits none of the shapes.",
+            self.ray_count(),
+            self.boxes.rays.len(),
+            self.coplanar.rays.len(),
+            self.triangles.rays.len(),
+            self.rounded_boxes.rays.len(),
+            self.rounded_coplanar.rays.len(),
+            self.far_boxes.rays.len(),
+            self.far_rounded_boxes.rays.len(),
+            placements = placements(),
+            start = short(START_DISTANCE),
+            inward = INWARD_COSINE,
+            margin = EDGE_MARGIN,
+            far_margin = 1.0 - EDGE_MARGIN,
+            ulp = farthest.next_up() - farthest,
+            farthest = short(farthest),
+            far_distances = decades(FAR_EXPONENTS),
+            inset = short(FAR_INSET),
+        )
     }
 }

@@ -1,6 +1,5 @@
 //! Light sampling: area sampling against solid-angle sampling of a unit square light and
-//! of half of it (a triangle), seen from heights 0.01, 0.1, 1 and 10 above a point near its
-//! centre. For each, the variance per sample of the irradiance estimate (`cos / pdf`) and
+//! of half of it (a triangle), seen from several heights above a point near its centre. For each, the variance per sample of the irradiance estimate (`cos / pdf`) and
 //! the time per sample (direction and density).
 
 use std::hint::black_box;
@@ -20,10 +19,39 @@ pub struct SamplerRow {
 
 type Light = Box<dyn PdfHittable>;
 
+/// The square light's corner `q`; its edges are the unit vectors x and y.
+const CORNER: DVec3 = DVec3::new(-0.5, -0.5, 0.0);
+/// The point under the shading points, in the light's plane.
+const BELOW: (f64, f64) = (0.1, -0.2);
+/// Heights of the shading points above the light's plane.
+const HEIGHTS: [f64; 4] = [0.01, 0.1, 1.0, 10.0];
+/// Timed runs per measurement; the median is shown.
+const RUNS: usize = 5;
+
+/// What the table measures, from the constants above, for the printed text.
+pub fn describe() -> String {
+    let far = CORNER + DVec3::X + DVec3::Y;
+    format!(
+        "A unit square light (corners ({}, {}, {}) and ({}, {}, {})) and its lower-left half, \
+         a triangle, seen from a point ({}, {}) at heights {} above it; the irradiance estimate cos / \
+         pdf, its variance per sample and the time per sample (direction and density; median \
+         of {RUNS} runs), with `Sampling::Area` and with the default `Sampling::SolidAngle`.",
+        CORNER.x,
+        CORNER.y,
+        CORNER.z,
+        far.x,
+        far.y,
+        far.z,
+        BELOW.0,
+        BELOW.1,
+        HEIGHTS.map(|h| h.to_string()).join(", "),
+    )
+}
+
 /// The unit square and its lower-left half, each as sampled by default (by solid angle
 /// where hitkit does so) and by area.
 fn lights() -> [(&'static str, Light, Light); 2] {
-    let q = DVec3::new(-0.5, -0.5, 0.0);
+    let q = CORNER;
     let square = Quad::new(q, DVec3::X, DVec3::Y).expect("a unit square");
     let triangle = Quad::with_interior(q, DVec3::X, DVec3::Y, Triangle).expect("a half square");
     [
@@ -40,7 +68,7 @@ fn lights() -> [(&'static str, Light, Light); 2] {
     ]
 }
 
-/// Variance per sample and median ns per sample (of 5 timed runs) of `n` estimates.
+/// Variance per sample and median ns per sample (of `RUNS` timed runs) of `n` estimates.
 fn measure(light: &dyn PdfHittable, origin: DVec3, n: usize) -> (f64, f64) {
     let mut rng = crate::scene::SplitMix::new(0x5eed);
     let mut next = move || rng.next_f64();
@@ -55,7 +83,7 @@ fn measure(light: &dyn PdfHittable, origin: DVec3, n: usize) -> (f64, f64) {
     };
     let mut times = Vec::new();
     let (mut sum, mut sum2) = (0.0, 0.0);
-    for _ in 0..5 {
+    for _ in 0..RUNS {
         let start = Instant::now();
         for _ in 0..n {
             let x = black_box(estimate());
@@ -65,17 +93,17 @@ fn measure(light: &dyn PdfHittable, origin: DVec3, n: usize) -> (f64, f64) {
         times.push(start.elapsed().as_secs_f64() * 1e9 / n as f64);
     }
     times.sort_by(f64::total_cmp);
-    let count = (5 * n) as f64;
+    let count = (RUNS * n) as f64;
     let mean = sum / count;
-    ((sum2 / count - mean * mean).max(0.0), times[2])
+    ((sum2 / count - mean * mean).max(0.0), times[RUNS / 2])
 }
 
 pub fn measure_all(quick: bool) -> Vec<SamplerRow> {
     let n = if quick { 2_000 } else { 200_000 };
     let mut rows = Vec::new();
     for (shape, solid_angle, area) in lights() {
-        for height in [0.01, 0.1, 1.0, 10.0] {
-            let origin = DVec3::new(0.1, -0.2, height);
+        for height in HEIGHTS {
+            let origin = DVec3::new(BELOW.0, BELOW.1, height);
             rows.push(SamplerRow {
                 shape,
                 height,

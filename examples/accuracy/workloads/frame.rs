@@ -169,3 +169,39 @@ impl Lattice {
         self.base + i * self.axes[0] + j * self.axes[1] + k * self.axes[2]
     }
 }
+
+/// Which shape a `(q, u, v)` stands for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Outline {
+    /// Corners `q`, `q + u`, `q + u + v`, `q + v`.
+    Parallelogram,
+    /// Corners `q`, `q + u`, `q + v`.
+    Triangle,
+}
+
+impl Outline {
+    /// The shape's name in the printed text.
+    pub fn name(self) -> &'static str {
+        match self {
+            Outline::Parallelogram => "parallelogram",
+            Outline::Triangle => "triangle",
+        }
+    }
+
+    /// The corners of the shape `s`, in order around `u x v` (the last repeats the first
+    /// for a triangle, whose fourth slot is unused: see [`Outline::corner_count`]).
+    pub fn corners(self, s: &QuadSpec) -> [DVec3; 4] {
+        match self {
+            Outline::Parallelogram => [s.q, s.q + s.u, s.q + s.u + s.v, s.q + s.v],
+            Outline::Triangle => [s.q, s.q + s.u, s.q + s.v, s.q],
+        }
+    }
+
+    /// How many of [`Outline::corners`] are corners.
+    pub fn corner_count(self) -> usize {
+        match self {
+            Outline::Parallelogram => 4,
+            Outline::Triangle => 3,
+        }
+    }
+}

@@ -3,7 +3,8 @@
 use hitkit::Ray;
 use hitkit::glam::DVec3;
 
-use crate::frame::{Frame, QuadSpec, Rng, SEED};
+use crate::numbers::{short, span};
+use crate::workloads::frame::{Frame, QuadSpec, Rng, SEED};
 
 /// What is unusual about a ray of the degenerate workload.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -122,5 +123,26 @@ impl Degenerate {
             ray: Ray::new(p + frame.direction(DVec3::Z), DVec3::ZERO),
             kind: DegenerateKind::Zero,
         });
+    }
+}
+
+impl Degenerate {
+    /// What the workload is, from the constants that build it, for the printed text.
+    pub fn describe(&self) -> String {
+        let lengths: Vec<f64> = DIRECTION_EXPONENTS.iter().map(|&e| 10f64.powi(e)).collect();
+        format!(
+            "- **degenerate** ({} rays): unit quads at offsets {offsets}; rays aimed well inside \
+             with direction lengths {lengths}, grazing rays at {angles} rad to the plane (where \
+             rounding of the origin cannot move the crossing out), and zero directions. \
+             **Lost**: a ray that should hit misses.",
+            self.rays.len(),
+            offsets = DEGENERATE_OFFSETS
+                .iter()
+                .map(|&x| short(x))
+                .collect::<Vec<_>>()
+                .join(", "),
+            lengths = span(&lengths),
+            angles = span(&GRAZING_ANGLES),
+        )
     }
 }

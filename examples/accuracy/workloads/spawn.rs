@@ -4,7 +4,8 @@
 use hitkit::Ray;
 use hitkit::glam::DVec3;
 
-use crate::frame::{Frame, QuadSpec, Rng, SEED};
+use crate::numbers::{short, span};
+use crate::workloads::frame::{Frame, QuadSpec, Rng, SEED};
 
 /// How far above a surface the second surface of the spawn workload lies, relative to the
 /// first surface's size.
@@ -87,5 +88,25 @@ impl Spawn {
                 transmitted: frame.direction(rng.cone_z(0.05, 1.0)),
             });
         }
+    }
+}
+
+impl Spawn {
+    /// What the workload is, from the constants that build it, for the printed text.
+    pub fn describe(&self) -> String {
+        format!(
+            "- **spawn** ({} hits, two spawned rays each): a square quad of size S under a \
+             random rotation, hit from below, and a second one {gap} S above it, at offsets \
+             {offsets} and sizes {sizes} (every pair where the gap, {gap} S, is at least \
+             {min_gap} of the offset: hundreds of ulps). From each hit, a random direction back \
+             down (should hit nothing) and one up (should hit the quad above). **Self-hit**: a \
+             spawned ray hits the quad it left; **lost**: the upward ray misses the quad above \
+             (or the first hit is missed).",
+            self.cases.len(),
+            gap = short(SPAWN_GAP),
+            offsets = span(&SPAWN_OFFSETS),
+            sizes = span(&SPAWN_SIZES),
+            min_gap = short(MIN_GAP),
+        )
     }
 }

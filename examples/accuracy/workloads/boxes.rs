@@ -4,7 +4,8 @@
 use hitkit::Ray;
 use hitkit::glam::DVec3;
 
-use crate::frame::{QuadSpec, Rng, SEED};
+use crate::numbers::span;
+use crate::workloads::frame::{QuadSpec, Rng, SEED};
 
 /// One ray of the boxes workload: it meets `quads[quad]` exactly (by construction), so a box
 /// test that rejects the quad's box loses the hit.
@@ -156,5 +157,19 @@ impl Boxes {
             let (d_b, d_e) = (rng.range(-0.5, 0.5), rng.range(-0.5, 0.5));
             push(rng, BoxRayKind::Slanted, p_b, p_e, d_b, d_e);
         }
+    }
+}
+
+impl Boxes {
+    /// What the workload is, from the constants that build it, for the printed text.
+    pub fn describe(&self) -> String {
+        format!(
+            "- **boxes** ({} rays): axis-aligned unit squares (flat boxes) at offsets {offsets}, \
+             rays lying in their boxes' slab planes with 0 and -0.0 direction components (across \
+             an edge, at a corner), perpendicular and slanted. **Lost**: hitkit's quad test \
+             accepts the square, the box test rejects its box.",
+            self.rays.len(),
+            offsets = span(&BOX_OFFSETS),
+        )
     }
 }

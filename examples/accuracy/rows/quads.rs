@@ -1,6 +1,6 @@
-//! Part 1: every accuracy choice on the same workloads, counting failures and timing. The
-//! quad-test rows (the book's, `Exact`, 0.1.0's widened default, today's crossing-region
-//! default, and the two ways of spawning rays) are here; the box-test rows in `box_tests`.
+//! The quad-test rows (the book's, `Exact`, 0.1.0's widened default, today's
+//! crossing-region default) and the two ways of spawning rays: each counts its failures on
+//! every workload it runs and is timed on the edges workload's box rays.
 
 use std::hint::black_box;
 
@@ -9,43 +9,22 @@ use hitkit::{
     Exact, GeometryError, HitRecord, Hittable, Interval, Parallelogram, Quad, Ray, Triangle,
 };
 
-use crate::book::{self, BookQuad, BookShape};
-use crate::box_tests::{self, BoxNotes};
-use crate::boxes::Boxes;
-use crate::degenerate::{Degenerate, DegenerateKind, DegenerateRay};
-use crate::distance::{Outline, is_false_hit};
-use crate::edges::{Edges, Group, PLACEMENTS};
-use crate::frame::{QuadSpec, Rng, SEED};
-use crate::grazing::{Approach, Grazing, GrazingRay};
-use crate::spawn::{Spawn, SpawnCase};
-use crate::tally::{Failure, Measured, Row, Tally, median_ns_per_ray, row, short};
-use crate::widened::{Widened, WidenedShape};
-
-/// All the workloads, generated once and shared by every choice.
-pub struct Workloads {
-    pub edges: Edges,
-    pub grazing: Grazing,
-    pub spawn: Spawn,
-    pub degenerate: Degenerate,
-    pub boxes: Boxes,
-}
-
-impl Workloads {
-    /// Every workload; `size` scales the number of rays (1.0 for the full run).
-    pub fn generate(size: f64) -> Self {
-        Self {
-            edges: Edges::generate(size),
-            grazing: Grazing::generate(size),
-            spawn: Spawn::generate(size),
-            degenerate: Degenerate::generate(size),
-            boxes: Boxes::generate(size),
-        }
-    }
-}
+use crate::numbers::short;
+use crate::rows::book::{BookQuad, BookShape};
+use crate::rows::distance::is_false_hit;
+use crate::rows::tally::{Failure, Measured, Tally, median_ns_per_ray};
+use crate::rows::widened::{Widened, WidenedShape};
+use crate::workloads::Workloads;
+use crate::workloads::degenerate::{Degenerate, DegenerateKind, DegenerateRay};
+use crate::workloads::edges::Group;
+use crate::workloads::frame::{Outline, QuadSpec};
+use crate::workloads::grazing::{Grazing, GrazingRay};
+use crate::workloads::inside::inside_rays;
+use crate::workloads::spawn::{Spawn, SpawnCase};
 
 /// How a choice starts secondary rays, and the range it traces every ray over.
 #[derive(Clone, Copy, Debug)]
-enum Spawning {
+pub enum Spawning {
     /// hitkit's `HitRecord::spawn_ray`, traced over `[0, inf)`.
     Offset,
     /// At the hit point, every ray traced over `[t_min, inf)` (the book's renderer).
@@ -71,7 +50,7 @@ impl Spawning {
 }
 
 /// How a choice builds parallelograms and triangles from the workloads' `(q, u, v)`.
-trait Shapes {
+pub trait Shapes {
     type Parallelogram: Hittable + 'static;
     type Triangle: Hittable + 'static;
     fn parallelogram(&self, s: &QuadSpec) -> Result<Self::Parallelogram, GeometryError>;
@@ -79,7 +58,7 @@ trait Shapes {
 }
 
 /// The book's test.
-struct BookShapes;
+pub struct BookShapes;
 
 impl Shapes for BookShapes {
     type Parallelogram = BookQuad;
@@ -93,7 +72,7 @@ impl Shapes for BookShapes {
 }
 
 /// hitkit's plane test with exact interiors (`Exact`), no widening.
-struct ExactShapes;
+pub struct ExactShapes;
 
 impl Shapes for ExactShapes {
     type Parallelogram = Quad<Exact<Parallelogram>>;
@@ -107,8 +86,8 @@ impl Shapes for ExactShapes {
 }
 
 /// hitkit 0.1.0's default: `(alpha, beta)` widened by their error bound
-/// ([`Widened`](crate::widened::Widened)).
-struct WidenedShapes;
+/// ([`Widened`](crate::rows::widened::Widened)).
+pub struct WidenedShapes;
 
 impl Shapes for WidenedShapes {
     type Parallelogram = Widened;
@@ -122,7 +101,7 @@ impl Shapes for WidenedShapes {
 }
 
 /// hitkit's defaults: shapes decided by the crossing region.
-struct DefaultShapes;
+pub struct DefaultShapes;
 
 impl Shapes for DefaultShapes {
     type Parallelogram = Quad;
@@ -407,7 +386,7 @@ fn count_degenerate<T: Hittable>(
 
 /// Rows 1-4: one choice of shapes on the edges, grazing, spawn and degenerate workloads;
 /// timed on the box-edge rays from near.
-fn shape_row<S: Shapes>(
+pub fn shape_row<S: Shapes>(
     shapes: &S,
     spawning: Spawning,
     workloads: &Workloads,
@@ -452,36 +431,8 @@ fn shape_row<S: Shapes>(
     })
 }
 
-/// Rays per box for the timing on rays through faces' insides.
-pub const INSIDE_RAYS: usize = 20_000;
-
-/// The boxes of `group` with rays of a render's kind instead: from `3 s` away in a random
-/// direction (`s` the box's edge) toward a random point within `0.35 s` of its centre, so
-/// that they enter through a face's inside, almost all of them well away from its edges.
-pub fn inside_rays(group: &Group) -> Group {
-    let mut rng = Rng::new(SEED ^ 0x1a5);
-    let mut rays = Vec::with_capacity(group.targets.len() * INSIDE_RAYS);
-    for (i, faces) in group.targets.iter().enumerate() {
-        let n = faces.len() as f64;
-        let centre = faces
-            .iter()
-            .fold(DVec3::ZERO, |c, f| c + (f.q + 0.5 * (f.u + f.v)) / n);
-        let size = faces[0].u.length();
-        for _ in 0..INSIDE_RAYS {
-            let origin = centre + 3.0 * size * rng.unit_vector();
-            let target = centre + 0.35 * size * rng.uniform() * rng.unit_vector();
-            rays.push((i, Ray::new(origin, target - origin)));
-        }
-    }
-    Group {
-        targets: group.targets.clone(),
-        placements: group.placements.clone(),
-        rays,
-    }
-}
-
 /// Rows 5-6: the spawn workload on hitkit's default quads, with one way of spawning.
-fn spawn_offset_row(
+pub fn spawn_offset_row(
     workloads: &Workloads,
     spawning: Spawning,
     repetitions: usize,
@@ -491,100 +442,4 @@ fn spawn_offset_row(
     count_spawn(&mut tally, &workloads.spawn, &pairs, spawning);
     let ns = time_spawn(&workloads.spawn, &pairs, spawning, repetitions);
     Ok(Measured::new(tally, ns))
-}
-
-/// Every row of the table, in order, and the notes on the box tests.
-pub fn measure(workloads: &Workloads, repetitions: usize) -> Result<(Vec<Row>, BoxNotes), String> {
-    let book = Spawning::TMin(book::T_MIN);
-    let mut rows = vec![
-        row(
-            "book",
-            "nothing (the baseline: 1e-8 parallel test, t = (D - n.o) / n.d, p = o + t d, t_min = 0.001)",
-            shape_row(&BookShapes, book, workloads, repetitions)?,
-        ),
-        row(
-            "well-conditioned (`Exact`)",
-            "far-out accuracy: t = n.(q - o) / n.d, p - q = (o - q) + t d; no 1e-8 test or t_min; `spawn_ray`",
-            shape_row(&ExactShapes, Spawning::Offset, workloads, repetitions)?,
-        ),
-        row(
-            "widened in (alpha, beta) (0.1.0 default)",
-            "cracks at exactly shared corners: points within the coordinates' error bound, which grows as 1 / |n.d|, count as inside",
-            shape_row(&WidenedShapes, Spawning::Offset, workloads, repetitions)?,
-        ),
-        row(
-            "crossing region (default)",
-            "cracks (shared corners exact or rounded apart) without false hits: the exact crossing's region, narrow across the ray at any angle; double-double near edges; hits kept in the shape's box",
-            shape_row(&DefaultShapes, Spawning::Offset, workloads, repetitions)?,
-        ),
-        row(
-            "spawn offset: `spawn_ray`, t >= 0",
-            "self-hits, with no epsilon: the origin moves off by the hit point's error bound",
-            spawn_offset_row(workloads, Spawning::Offset, repetitions)?,
-        ),
-        row(
-            "spawn offset: hit point, t_min = 0.001",
-            "self-hits where errors stay below 0.001 (the book's way), losing nearer surfaces",
-            spawn_offset_row(workloads, book, repetitions)?,
-        ),
-    ];
-    let (box_rows, notes) = box_tests::box_rows(&workloads.boxes, repetitions)?;
-    rows.extend(box_rows);
-    Ok((rows, notes))
-}
-
-/// How many rays each workload traces, for the printed description.
-pub struct RayCounts {
-    /// Every ray of the edges workload.
-    pub edges: usize,
-    /// Its parts: box rays from near (exact, rounded), shared-edge rays (coplanar exact and
-    /// rounded, triangles), box rays from afar (exact, rounded).
-    pub boxes: [usize; 2],
-    pub shared: [usize; 3],
-    pub far: [usize; 2],
-    /// The grazing workload's shapes, grazing rays and rays from afar.
-    pub grazing_shapes: usize,
-    pub grazing: [usize; 2],
-    pub spawn: usize,
-    pub degenerate: usize,
-    pub box_rays: usize,
-}
-
-impl RayCounts {
-    /// The counts of `workloads`.
-    pub fn of(workloads: &Workloads) -> Self {
-        let edges = &workloads.edges;
-        let boxes = [edges.boxes.rays.len(), edges.rounded_boxes.rays.len()];
-        let shared = [
-            edges.coplanar.rays.len(),
-            edges.rounded_coplanar.rays.len(),
-            edges.triangles.rays.len(),
-        ];
-        let far = [
-            edges.far_boxes.rays.len(),
-            edges.far_rounded_boxes.rays.len(),
-        ];
-        let grazing = &workloads.grazing;
-        let approached = |a: Approach| grazing.rays.iter().filter(|r| r.approach == a).count();
-        Self {
-            edges: boxes.iter().chain(&shared).chain(&far).sum(),
-            boxes,
-            shared,
-            far,
-            grazing_shapes: grazing.shapes.len(),
-            grazing: [approached(Approach::Grazing), approached(Approach::Afar)],
-            spawn: workloads.spawn.cases.len(),
-            degenerate: workloads.degenerate.rays.len(),
-            box_rays: workloads.boxes.rays.len(),
-        }
-    }
-}
-
-/// The placements of the edges workload, for the printed description.
-pub fn placements() -> String {
-    PLACEMENTS
-        .iter()
-        .map(|&(offset, scale)| format!("{} x {}", short(offset), short(scale)))
-        .collect::<Vec<_>>()
-        .join(", ")
 }
