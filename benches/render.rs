@@ -18,6 +18,7 @@ fn effects(c: &mut Criterion) {
     let settings = Settings {
         samples: 8,
         max_depth: 50,
+        roulette: true,
         seed: 1,
         threads: 1,
         progress: false,

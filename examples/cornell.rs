@@ -18,6 +18,7 @@ fn main() -> ExitCode {
         width: 300,
         samples: 100,
         depth: 50,
+        roulette: true,
         seed: 0,
         output: "cornell.png".into(),
         threads: 0,

@@ -14,6 +14,7 @@ fn main() -> ExitCode {
         width: 400,
         samples: 100,
         depth: 50,
+        roulette: true,
         seed: 0,
         output: "quads.png".into(),
         threads: 0,

@@ -15,6 +15,7 @@ fn main() -> ExitCode {
         width: 600,
         samples: 64,
         depth: 20,
+        roulette: true,
         seed: 0,
         output: "shapes.png".into(),
         threads: 0,

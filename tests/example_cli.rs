@@ -13,6 +13,7 @@ fn defaults() -> Options {
         width: 400,
         samples: 100,
         depth: 50,
+        roulette: true,
         seed: 0,
         output: "out.png".into(),
         threads: 0,
@@ -58,6 +59,12 @@ fn sizes_in_range_are_taken_and_absurd_ones_refused_naming_the_flag() {
     }
     assert!(parse(&["--width"]).unwrap_err().contains("needs a value"));
     assert!(parse(&["--help"]).unwrap().is_none());
+    assert!(!parse(&["--roulette", "no"]).unwrap().unwrap().roulette);
+    assert!(
+        parse(&["--roulette", "maybe"])
+            .unwrap_err()
+            .contains("maybe")
+    );
 }
 
 #[test]

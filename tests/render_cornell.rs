@@ -1,14 +1,15 @@
 //! Light sampling must not bias the estimate: the Cornell box rendered with it and without
 //! it, and with its light sampled by area and by solid angle, converges to the same mean
 //! brightness; near the light, solid-angle sampling estimates the direct light with far
-//! less variance per sample.
+//! less variance per sample. Russian roulette does not bias it either, on the book's own
+//! final scene (glass sphere and lamp both sampled as lights).
 
 #[path = "../examples/common/mod.rs"]
 mod common;
 
 use common::Effects;
 use common::render::{Settings, render};
-use common::scenes::cornell_scene;
+use common::scenes::{cornell_book_scene, cornell_scene};
 use hitkit::glam::{DVec2, DVec3};
 use hitkit::{Hittable, Interval, PdfHittable, Ray, Sampling};
 use rand::rngs::SmallRng;
@@ -17,6 +18,7 @@ use rand::{RngExt, SeedableRng};
 const SETTINGS: Settings = Settings {
     samples: 256,
     max_depth: 50,
+    roulette: true,
     seed: 0,
     threads: 0,
     progress: false,
@@ -135,4 +137,20 @@ fn solid_angle_sampling_has_less_variance_near_the_light() {
             "at {point}: variance {var_s} by solid angle, {var_a} by area"
         );
     }
+}
+
+#[test]
+fn russian_roulette_keeps_the_mean_of_the_books_final_scene() {
+    let scene = cornell_book_scene(24);
+    let effects = scene.effects();
+    assert!(effects.light_sampling && effects.emission && scene.lights.len() == 2);
+    let with = |roulette, seed| {
+        let settings = Settings {
+            roulette,
+            seed,
+            ..SETTINGS
+        };
+        render(&scene, &settings, effects).unwrap().mean_luminance()
+    };
+    assert_same_mean(with(true, 5), with(false, 6), "with roulette, without");
 }

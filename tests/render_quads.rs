@@ -20,6 +20,7 @@ fn settings(threads: usize) -> Settings {
     Settings {
         samples: 16,
         max_depth: 50,
+        roulette: true,
         seed: 7,
         threads,
         progress: false,

@@ -27,6 +27,8 @@ pub struct Options {
     pub width: usize,
     pub samples: usize,
     pub depth: usize,
+    /// Russian roulette after a few bounces (see `Settings::roulette`).
+    pub roulette: bool,
     pub seed: u64,
     pub output: PathBuf,
     pub threads: usize,
@@ -41,6 +43,7 @@ impl Options {
              --width N     image width in pixels, 1 to {MAX_WIDTH} [default: {}]\n  \
              --samples N   samples per pixel, 1 to {MAX_SAMPLES} [default: {}]\n  \
              --depth N     longest path, in bounces, 1 to {MAX_DEPTH} [default: {}]\n  \
+             --roulette Y  end paths by Russian roulette after 3 bounces, yes or no [default: {}]\n  \
              --seed S      random seed; the same seed gives the same image [default: {}]\n  \
              --output PATH where to write the PNG (checked before rendering) [default: {}]\n  \
              --threads N   worker threads, 0 for one per core, at most {MAX_THREADS} [default: {}]\n  \
@@ -48,6 +51,7 @@ impl Options {
             self.width,
             self.samples,
             self.depth,
+            if self.roulette { "yes" } else { "no" },
             self.seed,
             self.output.display(),
             self.threads
@@ -81,6 +85,13 @@ impl Options {
                         .map_err(|_| format!("--seed: `{v}` is not a whole number"))?;
                 }
                 "--output" => self.output = PathBuf::from(value()?),
+                "--roulette" => {
+                    self.roulette = match value()?.as_str() {
+                        "yes" => true,
+                        "no" => false,
+                        other => return Err(format!("--roulette: `{other}` is not yes or no")),
+                    }
+                }
                 other => return Err(format!("unknown option `{other}`")),
             }
         }
@@ -116,6 +127,7 @@ pub fn run<W: Hittable>(
     let settings = Settings {
         samples: options.samples,
         max_depth: options.depth,
+        roulette: options.roulette,
         seed: options.seed,
         threads: options.threads,
         progress: true,

@@ -19,6 +19,10 @@ use super::{Color, Effects, Scene};
 pub struct Settings {
     pub samples: usize,
     pub max_depth: usize,
+    /// End paths by Russian roulette after `ROULETTE_FROM` bounces (unbiased, and fewer
+    /// bounces per path); without it every path runs until it escapes, is absorbed or
+    /// reaches `max_depth`, as in the book's renderer.
+    pub roulette: bool,
     pub seed: u64,
     /// Worker threads; 0 for one per core.
     pub threads: usize,
@@ -141,7 +145,7 @@ fn pixel<W: Hittable, const EMIT: bool, const BG: bool, const LIGHTS: bool, cons
     let (mut sum, mut sum_l, mut sum_l2) = (Color::ZERO, 0.0, 0.0);
     for _ in 0..settings.samples {
         let ray = camera.ray::<LENS>(i, j, &mut rng);
-        let c = radiance::<W, BG, EMIT, LIGHTS>(scene, ray, settings.max_depth, &mut rng);
+        let c = radiance::<W, BG, EMIT, LIGHTS>(scene, ray, settings, &mut rng);
         let l = luminance(c);
         sum += c;
         sum_l += l;
@@ -161,12 +165,12 @@ fn pixel<W: Hittable, const EMIT: bool, const BG: bool, const LIGHTS: bool, cons
 fn radiance<W: Hittable, const BG: bool, const EMIT: bool, const LIGHTS: bool>(
     scene: &Scene<W>,
     mut ray: Ray,
-    max_depth: usize,
+    settings: &Settings,
     rng: &mut SmallRng,
 ) -> Color {
     let mut color = Color::ZERO;
     let mut throughput = Color::ONE;
-    for depth in 0..max_depth {
+    for depth in 0..settings.max_depth {
         let Some(hit) = scene.world.hit(&ray, Interval::FORWARD) else {
             if BG {
                 color += throughput * scene.background.color(ray.direction);
@@ -208,7 +212,7 @@ fn radiance<W: Hittable, const BG: bool, const EMIT: bool, const LIGHTS: bool>(
             }
         };
         ray = hit.spawn_ray(direction);
-        if depth >= ROULETTE_FROM {
+        if settings.roulette && depth >= ROULETTE_FROM {
             let p = throughput.max_element().min(0.95);
             if p.is_nan() || rng.random::<f64>() >= p {
                 break;

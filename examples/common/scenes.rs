@@ -119,14 +119,9 @@ pub fn shapes_scene(width: usize) -> Scene<Vec<Box<dyn hitkit::Hittable>>> {
     }
 }
 
-/// The Cornell box of "Ray Tracing: The Rest of Your Life": walls and light as quads, two
-/// boxes of six quads each, rotated and translated; the light is sampled by `sampling`.
-pub fn cornell_scene(
-    width: usize,
-    sampling: hitkit::Sampling,
-) -> Scene<Vec<Box<dyn hitkit::Hittable>>> {
-    use hitkit::glam::DQuat;
-    use hitkit::{Cuboid, Hittable, PdfHittable, Transformed};
+/// The walls and lamp of the Cornell box (the book's `cornell_box()`), and the materials
+/// red, white, green and light (ids 0 to 3).
+fn cornell_walls() -> (Vec<Material>, Vec<Quad>, Quad) {
     let (red, white, green, light) = (MaterialId(0), MaterialId(1), MaterialId(2), MaterialId(3));
     let materials = vec![
         Material::Lambertian(Color::new(0.65, 0.05, 0.05)),
@@ -145,67 +140,127 @@ pub fn cornell_scene(
         [0.0, 0.0, -105.0],
         light,
     );
-    let cuboid = |size: [f64; 3], degrees: f64, offset: [f64; 3]| {
-        let b = Cuboid::new(DVec3::ZERO, size.into())
-            .expect("a valid box")
-            .with_material(white);
-        Transformed::new(
-            b,
-            DQuat::from_rotation_y(degrees.to_radians()),
-            offset.into(),
-        )
-        .expect("a valid motion")
-    };
-    let world: Vec<Box<dyn Hittable>> = vec![
-        Box::new(quad(
+    let walls = vec![
+        quad(
             [555.0, 0.0, 0.0],
             [0.0, 555.0, 0.0],
             [0.0, 0.0, 555.0],
             green,
-        )),
-        Box::new(quad(
-            [0.0, 0.0, 0.0],
-            [0.0, 555.0, 0.0],
-            [0.0, 0.0, 555.0],
-            red,
-        )),
-        Box::new(lamp),
-        Box::new(quad(
-            [0.0, 0.0, 0.0],
-            [555.0, 0.0, 0.0],
-            [0.0, 0.0, 555.0],
-            white,
-        )),
-        Box::new(quad(
+        ),
+        quad([0.0, 0.0, 0.0], [0.0, 555.0, 0.0], [0.0, 0.0, 555.0], red),
+        quad([0.0, 0.0, 0.0], [555.0, 0.0, 0.0], [0.0, 0.0, 555.0], white),
+        quad(
             [555.0, 555.0, 555.0],
             [-555.0, 0.0, 0.0],
             [0.0, 0.0, -555.0],
             white,
-        )),
-        Box::new(quad(
+        ),
+        quad(
             [0.0, 0.0, 555.0],
             [555.0, 0.0, 0.0],
             [0.0, 555.0, 0.0],
             white,
-        )),
-        Box::new(cuboid([165.0, 330.0, 165.0], 15.0, [265.0, 0.0, 295.0])),
-        Box::new(cuboid([165.0, 165.0, 165.0], -18.0, [130.0, 0.0, 65.0])),
+        ),
     ];
+    (materials, walls, lamp)
+}
+
+/// A white box of `size` turned by `degrees` about y and moved by `offset` (the book's
+/// `rotate_y` then `translate`).
+fn cornell_block(
+    size: [f64; 3],
+    degrees: f64,
+    offset: [f64; 3],
+) -> hitkit::Transformed<hitkit::Cuboid> {
+    use hitkit::glam::DQuat;
+    let block = hitkit::Cuboid::new(DVec3::ZERO, size.into())
+        .expect("a valid box")
+        .with_material(MaterialId(1));
+    hitkit::Transformed::new(
+        block,
+        DQuat::from_rotation_y(degrees.to_radians()),
+        offset.into(),
+    )
+    .expect("a valid motion")
+}
+
+/// The walls, the lamp and a tall box: what both Cornell scenes have.
+fn cornell_room() -> (Vec<Material>, Vec<Box<dyn hitkit::Hittable>>, Quad) {
+    use hitkit::Hittable;
+    let (materials, walls, lamp) = cornell_walls();
+    let mut world: Vec<Box<dyn Hittable>> = walls
+        .into_iter()
+        .map(|w| Box::new(w) as Box<dyn Hittable>)
+        .collect();
+    world.push(Box::new(lamp));
+    world.push(Box::new(cornell_block(
+        [165.0, 330.0, 165.0],
+        15.0,
+        [265.0, 0.0, 295.0],
+    )));
+    (materials, world, lamp)
+}
+
+/// The book's camera on the Cornell box.
+fn cornell_camera(width: usize) -> CameraSettings {
+    CameraSettings {
+        width,
+        height: width,
+        vfov: 40.0,
+        lookfrom: DVec3::new(278.0, 278.0, -800.0),
+        lookat: DVec3::new(278.0, 278.0, 0.0),
+        vup: DVec3::Y,
+        defocus_angle: 0.0,
+        focus_dist: 10.0,
+    }
+}
+
+/// The Cornell box of "Ray Tracing: The Rest of Your Life": walls and light as quads, two
+/// boxes of six quads each, rotated and translated; the light is sampled by `sampling`.
+pub fn cornell_scene(
+    width: usize,
+    sampling: hitkit::Sampling,
+) -> Scene<Vec<Box<dyn hitkit::Hittable>>> {
+    use hitkit::PdfHittable;
+    let (materials, mut world, lamp) = cornell_room();
+    world.push(Box::new(cornell_block(
+        [165.0, 165.0, 165.0],
+        -18.0,
+        [130.0, 0.0, 65.0],
+    )));
     let lights: Vec<Box<dyn PdfHittable>> = vec![Box::new(lamp.with_sampling(sampling))];
     Scene {
         world,
         materials,
         lights,
         background: Background::Solid(Color::ZERO),
-        camera: CameraSettings {
-            width,
-            height: width,
-            vfov: 40.0,
-            lookfrom: DVec3::new(278.0, 278.0, -800.0),
-            lookat: DVec3::new(278.0, 278.0, 0.0),
-            vup: DVec3::Y,
-            defocus_angle: 0.0,
-            focus_dist: 10.0,
-        },
+        camera: cornell_camera(width),
+    }
+}
+
+/// The last Cornell box of "Ray Tracing: The Rest of Your Life", as its `main()` builds it:
+/// the tall box, a glass sphere in place of the short one, and both the lamp (sampled by
+/// area, as the book's quad pdf is) and the sphere (by the cone it subtends) as lights,
+/// picked with equal probability. Rendered without Russian roulette, this is the book's
+/// work ray for ray: the like-for-like comparison of `benches/book.sh`.
+pub fn cornell_book_scene(width: usize) -> Scene<Vec<Box<dyn hitkit::Hittable>>> {
+    use hitkit::{PdfHittable, Sampling, Sphere};
+    let (mut materials, mut world, lamp) = cornell_room();
+    let glass = MaterialId(materials.len() as u32);
+    materials.push(Material::Dielectric(1.5));
+    let sphere = Sphere::new(DVec3::new(190.0, 90.0, 190.0), 90.0)
+        .expect("the book's sphere is valid")
+        .with_material(glass);
+    world.push(Box::new(sphere));
+    let lights: Vec<Box<dyn PdfHittable>> = vec![
+        Box::new(lamp.with_sampling(Sampling::Area)),
+        Box::new(sphere),
+    ];
+    Scene {
+        world,
+        materials,
+        lights,
+        background: Background::Solid(Color::ZERO),
+        camera: cornell_camera(width),
     }
 }

@@ -51,6 +51,7 @@ fn timed_render(
     let settings = Settings {
         samples,
         max_depth: MAX_DEPTH,
+        roulette: true,
         seed,
         threads: 0,
         progress: false,
