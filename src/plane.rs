@@ -67,6 +67,20 @@ pub struct Plane {
     material: MaterialId,
 }
 
+/// The magnitudes a crossing's error bounds are made of ([`Plane::crossing_region`]):
+/// `|q - o|_1`, `|t| |d|_1`, `|p|_1`, the error across the ray before the frame's, the
+/// slack (the height gained per unit of `t`, less its error), `|n.d|` and `|d|_1`.
+#[derive(Clone, Copy)]
+struct Parts {
+    a: f64,
+    b: f64,
+    big_p: f64,
+    across: f64,
+    slack: f64,
+    c: f64,
+    d1: f64,
+}
+
 /// The part of a [`CrossingRegion`] that decides whether the rest is needed.
 #[derive(Clone, Copy)]
 struct Bounds {
@@ -341,12 +355,16 @@ impl Plane {
     /// point `p` and `n.d`: what a quad computes for every plane it meets. Crossings that
     /// lie past `ray_t.max` by more than three times their reach (so that no decision in
     /// `Quad::hit` can bring them back into range) are rejected before the region's
-    /// coordinates and widths are computed.
+    /// coordinates and widths are computed, and so are crossings whose region lies clearly
+    /// outside `window` (a rectangle of `(alpha, beta)` holding the whole shape, see
+    /// [`Interior::coordinate_bounds`](crate::Interior::coordinate_bounds)), before the
+    /// reach's division.
     #[inline(always)]
     pub(crate) fn crossing(
         &self,
         ray: &Ray,
         ray_t: Interval,
+        window: Option<[DVec2; 2]>,
     ) -> Option<(PlaneHit, CrossingRegion)> {
         let q_minus_o = self.q - ray.origin;
         let numerator = self.normal.dot(q_minus_o);
@@ -361,16 +379,71 @@ impl Plane {
         }
         // The same point as `intersect`'s `(o - q) + t d`: negating a difference is exact.
         let p = t * ray.direction - q_minus_o;
-        let bounds = self.bounds(ray, t, q_minus_o, p, denom.abs());
+        let (alpha, beta) = (p.dot(self.to_alpha), p.dot(self.to_beta));
+        let parts = self.parts(ray, t, q_minus_o, p, denom.abs());
+        if let Some(window) = window
+            && self.clearly_outside(&parts, t, DVec2::new(alpha, beta), ray, window)
+        {
+            return None;
+        }
+        let bounds = self.bounds_of(&parts, t);
         if t - 3.0 * bounds.reach > ray_t.max {
             return None;
         }
-        let (alpha, beta) = (p.dot(self.to_alpha), p.dot(self.to_beta));
         if !((alpha.abs() < f64::INFINITY) & (beta.abs() < f64::INFINITY)) {
             return None;
         }
         let hit = PlaneHit { t, alpha, beta };
         Some((hit, self.finish(ray, &hit, bounds)))
+    }
+
+    /// Whether the region [`Plane::crossing_region`] would compute for the crossing at
+    /// `center` lies clearly outside the rectangle `[lo, hi]` of `(alpha, beta)`, decided
+    /// without the reach's division. The region reaches at most
+    /// `reach (|w| + gamma(3) d1 s) + world s + gamma(3) |center|` from its centre per
+    /// coordinate (`w` its `along`, `s` the coordinate scale: the half-length, then the
+    /// radius with the drift over the reach and the rounding of evaluating the segment,
+    /// grown by `1 + gamma(16)`), and `reach <= height / slack`, where `height` is the
+    /// reach's numerator with the tolerance's term at its largest (`tolerance / slack`).
+    /// Doubling both terms leaves room for every rounding here and in the region by a
+    /// factor near 2, so a crossing this test turns away is also one the region's own test
+    /// finds clear of the rectangle: the test changes no decision, it only reaches it
+    /// sooner. With `slack <= 0` (a reach without bound) it turns nothing away.
+    #[inline(always)]
+    fn clearly_outside(
+        &self,
+        parts: &Parts,
+        t: f64,
+        center: DVec2,
+        ray: &Ray,
+        [lo, hi]: [DVec2; 2],
+    ) -> bool {
+        let Parts {
+            a,
+            b,
+            big_p,
+            across,
+            slack,
+            c,
+            d1,
+        } = *parts;
+        if slack.is_nan() || slack <= 0.0 {
+            return false;
+        }
+        let e = self.frame_error;
+        let height = gamma(4) * a
+            + gamma(3) * b
+            + e * (big_p + across)
+            + gamma(2) * t.abs() * c
+            + self.tolerance;
+        let world = across + gamma(3) * big_p + self.frame_reach() + self.tolerance;
+        let outside = |i: usize, w: f64| {
+            let (scale, x) = (self.coordinate_scale[i], center[i]);
+            let rate = 2.0 * height * (w.abs() + gamma(3) * d1 * scale);
+            let fixed = 2.0 * (world * scale + gamma(3) * x.abs());
+            ((lo[i] - x).max(x - hi[i]) - fixed) * slack > rate
+        };
+        outside(0, ray.direction.dot(self.to_alpha)) || outside(1, ray.direction.dot(self.to_beta))
     }
 
     /// The region of [`Plane::crossing_region`], from `q - o`, the point `p` and `|n.d|` as
@@ -384,20 +457,42 @@ impl Plane {
         p: DVec3,
         c: f64,
     ) -> CrossingRegion {
-        let bounds = self.bounds(ray, hit.t, q_minus_o, p, c);
+        let bounds = self.bounds_of(&self.parts(ray, hit.t, q_minus_o, p, c), hit.t);
         self.finish(ray, hit, bounds)
+    }
+
+    /// The magnitudes the region's widths are made of, from `q - o`, the point `p` and
+    /// `c = |n.d|` as computed.
+    #[inline(always)]
+    fn parts(&self, ray: &Ray, t: f64, q_minus_o: DVec3, p: DVec3, c: f64) -> Parts {
+        let l1 = |v: DVec3| v.abs().element_sum();
+        let d1 = l1(ray.direction);
+        let (a, b, big_p) = (l1(q_minus_o), t.abs() * d1, l1(p));
+        Parts {
+            a,
+            b,
+            big_p,
+            across: gamma(2) * (a + b),
+            slack: c - (gamma(3) + self.frame_error) * d1,
+            c,
+            d1,
+        }
     }
 
     /// The first half of a region: the reach along the ray (see
     /// [`Plane::crossing_region`]), and the error across it before the drift.
     #[inline(always)]
-    fn bounds(&self, ray: &Ray, t: f64, q_minus_o: DVec3, p: DVec3, c: f64) -> Bounds {
-        let l1 = |v: DVec3| v.abs().element_sum();
-        let d1 = l1(ray.direction);
-        let (a, b, big_p) = (l1(q_minus_o), t.abs() * d1, l1(p));
+    fn bounds_of(&self, parts: &Parts, t: f64) -> Bounds {
+        let Parts {
+            a,
+            b,
+            big_p,
+            across,
+            slack,
+            c,
+            d1,
+        } = *parts;
         let e = self.frame_error;
-        let across = gamma(2) * (a + b);
-        let slack = c - (gamma(3) + e) * d1;
         let reach = if slack > 0.0 {
             // One division: the tolerance's rate is the slack too, above a slope of 2^-52.
             let inv = 1.0 / slack;

@@ -141,7 +141,7 @@ impl<S: Interior> Hittable for Quad<S> {
         // Whatever the decision below, the reported t is at least t - 3 reach (the refined
         // crossing's own reach is no larger than this one's): `crossing` rejects a t past
         // ray_t.max by more, and only that.
-        let (mut hit, region) = plane.crossing(ray, ray_t)?;
+        let (mut hit, region) = plane.crossing(ray, ray_t, self.shape.coordinate_bounds())?;
         match self.shape.meets(&region) {
             Meets::Inside => {}
             Meets::Outside => return None,
