@@ -76,6 +76,15 @@ pub trait Interior: Send + Sync {
     fn coordinate_bounds(&self) -> Option<[DVec2; 2]> {
         None
     }
+
+    /// Whether the shape is the whole rectangle its
+    /// [`coordinate_bounds`](Interior::coordinate_bounds) names (as the [`Parallelogram`]
+    /// is): a [`Quad`](crate::Quad) then takes a crossing clearly inside the rectangle as a
+    /// hit without computing its error bounds either. Default: `false`.
+    #[inline]
+    fn fills_coordinate_bounds(&self) -> bool {
+        false
+    }
 }
 
 /// How a shape lies against a [`CrossingRegion`] ([`Interior::meets`]).
@@ -216,6 +225,11 @@ impl Interior for Parallelogram {
     #[inline]
     fn coordinate_bounds(&self) -> Option<[DVec2; 2]> {
         Some([DVec2::ZERO, DVec2::ONE])
+    }
+
+    #[inline]
+    fn fills_coordinate_bounds(&self) -> bool {
+        true
     }
 
     fn bounding_box(&self, plane: &Plane) -> Aabb {

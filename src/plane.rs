@@ -67,6 +67,20 @@ pub struct Plane {
     material: MaterialId,
 }
 
+/// What [`Plane::crossing`] found: a crossing clearly inside a shape that fills its
+/// rectangle (a hit, with no region computed), or the crossing and its region, for the
+/// shape to decide ([`Interior::meets`](crate::Interior::meets)).
+pub(crate) enum Crossing {
+    Inside(PlaneHit),
+    Region(PlaneHit, CrossingRegion),
+}
+
+/// A decision [`Plane::crossing`] reaches without the reach's division.
+enum Clearly {
+    Outside,
+    Inside,
+}
+
 /// The magnitudes a crossing's error bounds are made of ([`Plane::crossing_region`]):
 /// `|q - o|_1`, `|t| |d|_1`, `|p|_1`, the error across the ray before the frame's, the
 /// slack (the height gained per unit of `t`, less its error), `|n.d|` and `|d|_1`.
@@ -355,17 +369,18 @@ impl Plane {
     /// point `p` and `n.d`: what a quad computes for every plane it meets. Crossings that
     /// lie past `ray_t.max` by more than three times their reach (so that no decision in
     /// `Quad::hit` can bring them back into range) are rejected before the region's
-    /// coordinates and widths are computed, and so are crossings whose region lies clearly
-    /// outside `window` (a rectangle of `(alpha, beta)` holding the whole shape, see
-    /// [`Interior::coordinate_bounds`](crate::Interior::coordinate_bounds)), before the
-    /// reach's division.
+    /// coordinates and widths are computed. With a `window` (the rectangle of
+    /// `(alpha, beta)` holding the shape, and whether the shape fills it: see
+    /// [`Interior::coordinate_bounds`](crate::Interior::coordinate_bounds)), crossings
+    /// clearly outside it are rejected, and crossings clearly inside a filled one come back
+    /// as [`Crossing::Inside`], both before the reach's division.
     #[inline(always)]
     pub(crate) fn crossing(
         &self,
         ray: &Ray,
         ray_t: Interval,
-        window: Option<[DVec2; 2]>,
-    ) -> Option<(PlaneHit, CrossingRegion)> {
+        window: Option<([DVec2; 2], bool)>,
+    ) -> Option<Crossing> {
         let q_minus_o = self.q - ray.origin;
         let numerator = self.normal.dot(q_minus_o);
         let denom = self.normal.dot(ray.direction);
@@ -380,11 +395,14 @@ impl Plane {
         // The same point as `intersect`'s `(o - q) + t d`: negating a difference is exact.
         let p = t * ray.direction - q_minus_o;
         let (alpha, beta) = (p.dot(self.to_alpha), p.dot(self.to_beta));
+        let hit = PlaneHit { t, alpha, beta };
         let parts = self.parts(ray, t, q_minus_o, p, denom.abs());
-        if let Some(window) = window
-            && self.clearly_outside(&parts, t, DVec2::new(alpha, beta), ray, window)
-        {
-            return None;
+        if let Some((window, filled)) = window {
+            match self.clearly(&parts, &hit, ray, window) {
+                Some(Clearly::Outside) => return None,
+                Some(Clearly::Inside) if filled => return Some(Crossing::Inside(hit)),
+                _ => {}
+            }
         }
         let bounds = self.bounds_of(&parts, t);
         if t - 3.0 * bounds.reach > ray_t.max {
@@ -393,31 +411,31 @@ impl Plane {
         if !((alpha.abs() < f64::INFINITY) & (beta.abs() < f64::INFINITY)) {
             return None;
         }
-        let hit = PlaneHit { t, alpha, beta };
-        Some((hit, self.finish(ray, &hit, bounds)))
+        Some(Crossing::Region(hit, self.finish(ray, &hit, bounds)))
     }
 
-    /// Whether the region [`Plane::crossing_region`] would compute for the crossing at
-    /// `center` lies clearly outside the rectangle `[lo, hi]` of `(alpha, beta)`, decided
-    /// without the reach's division. The region reaches at most
+    /// Whether the region [`Plane::crossing_region`] would compute for the crossing `hit`
+    /// lies clearly outside the rectangle `[lo, hi]` of `(alpha, beta)`, or clearly inside
+    /// it, decided without the reach's division; `None` where it is near the rectangle's
+    /// edges. The region reaches at most
     /// `reach (|w| + gamma(3) d1 s) + world s + gamma(3) |center|` from its centre per
     /// coordinate (`w` its `along`, `s` the coordinate scale: the half-length, then the
     /// radius with the drift over the reach and the rounding of evaluating the segment,
     /// grown by `1 + gamma(16)`), and `reach <= height / slack`, where `height` is the
     /// reach's numerator with the tolerance's term at its largest (`tolerance / slack`).
     /// Doubling both terms leaves room for every rounding here and in the region by a
-    /// factor near 2, so a crossing this test turns away is also one the region's own test
-    /// finds clear of the rectangle: the test changes no decision, it only reaches it
-    /// sooner. With `slack <= 0` (a reach without bound) it turns nothing away.
+    /// factor near 2, so a crossing this test finds clearly outside (inside) is one the
+    /// region's own test finds clear of (wholly within) the rectangle: the test changes no
+    /// decision, it only reaches it sooner. With `slack <= 0` (a reach without bound) it
+    /// decides nothing; a non-finite centre is never inside.
     #[inline(always)]
-    fn clearly_outside(
+    fn clearly(
         &self,
         parts: &Parts,
-        t: f64,
-        center: DVec2,
+        hit: &PlaneHit,
         ray: &Ray,
         [lo, hi]: [DVec2; 2],
-    ) -> bool {
+    ) -> Option<Clearly> {
         let Parts {
             a,
             b,
@@ -428,22 +446,34 @@ impl Plane {
             d1,
         } = *parts;
         if slack.is_nan() || slack <= 0.0 {
-            return false;
+            return None;
         }
         let e = self.frame_error;
         let height = gamma(4) * a
             + gamma(3) * b
             + e * (big_p + across)
-            + gamma(2) * t.abs() * c
+            + gamma(2) * hit.t.abs() * c
             + self.tolerance;
         let world = across + gamma(3) * big_p + self.frame_reach() + self.tolerance;
-        let outside = |i: usize, w: f64| {
+        let center = [hit.alpha, hit.beta];
+        let along = [
+            ray.direction.dot(self.to_alpha),
+            ray.direction.dot(self.to_beta),
+        ];
+        // Per coordinate: how far the region reaches from its centre, times the slack, and
+        // the slack times the centre's distance beyond the rectangle's edges (`outside`),
+        // and within them (`inside`).
+        let mut inside = true;
+        for i in 0..2 {
             let (scale, x) = (self.coordinate_scale[i], center[i]);
-            let rate = 2.0 * height * (w.abs() + gamma(3) * d1 * scale);
+            let rate = 2.0 * height * (along[i].abs() + gamma(3) * d1 * scale);
             let fixed = 2.0 * (world * scale + gamma(3) * x.abs());
-            ((lo[i] - x).max(x - hi[i]) - fixed) * slack > rate
-        };
-        outside(0, ray.direction.dot(self.to_alpha)) || outside(1, ray.direction.dot(self.to_beta))
+            if ((lo[i] - x).max(x - hi[i]) - fixed) * slack > rate {
+                return Some(Clearly::Outside);
+            }
+            inside &= ((x - lo[i]).min(hi[i] - x) - fixed) * slack > rate;
+        }
+        inside.then_some(Clearly::Inside)
     }
 
     /// The region of [`Plane::crossing_region`], from `q - o`, the point `p` and `|n.d|` as

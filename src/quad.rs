@@ -5,6 +5,7 @@ use glam::{DVec2, DVec3};
 
 use crate::light::{Spherical, View};
 use crate::math::{gamma, unit_and_length};
+use crate::plane::Crossing;
 use crate::{
     Aabb, GeometryError, HitRecord, Hittable, Interior, Interval, MaterialId, Meets, Parallelogram,
     PdfHittable, Plane, PlaneHit, Polygon, Ray, SampleInterior, Sampling,
@@ -120,6 +121,21 @@ impl<S: Interior> Quad<S> {
     }
 }
 
+impl<S: Interior> Quad<S> {
+    /// The record of the decided crossing `hit`. A `t` that rounding put before or past the
+    /// box moves onto it, so that a `Bvh` (whose boxes contain this one) finds every hit a
+    /// loop over the shapes finds; only then is it compared with `ray_t`.
+    #[inline(always)]
+    fn record(&self, ray: &Ray, ray_t: Interval, mut hit: PlaneHit) -> Option<HitRecord> {
+        hit.t = self.bbox.clamp_hit(ray, Interval::UNIVERSE, hit.t)?;
+        if !ray_t.contains(hit.t) {
+            return None;
+        }
+        self.plane
+            .hit_record(ray, hit, self.shape.uv(hit.alpha, hit.beta))
+    }
+}
+
 /// How far the box of a quad reaches beyond its shape, per coordinate: the plane's
 /// [tolerance](Plane::tolerance) and the frame's own error at the shape (a world-space
 /// distance, so per coordinate too), and a few ulps of itself. A ray that passes
@@ -141,7 +157,14 @@ impl<S: Interior> Hittable for Quad<S> {
         // Whatever the decision below, the reported t is at least t - 3 reach (the refined
         // crossing's own reach is no larger than this one's): `crossing` rejects a t past
         // ray_t.max by more, and only that.
-        let (mut hit, region) = plane.crossing(ray, ray_t, self.shape.coordinate_bounds())?;
+        let window = self
+            .shape
+            .coordinate_bounds()
+            .map(|bounds| (bounds, self.shape.fills_coordinate_bounds()));
+        let (mut hit, region) = match plane.crossing(ray, ray_t, window)? {
+            Crossing::Inside(hit) => return self.record(ray, ray_t, hit),
+            Crossing::Region(hit, region) => (hit, region),
+        };
         match self.shape.meets(&region) {
             Meets::Inside => {}
             Meets::Outside => return None,
@@ -163,13 +186,7 @@ impl<S: Interior> Hittable for Quad<S> {
                 };
             }
         }
-        // A t that rounding put before or past the box moves onto it, so that a Bvh (whose
-        // boxes contain this one) finds every hit a loop over the shapes finds.
-        hit.t = self.bbox.clamp_hit(ray, Interval::UNIVERSE, hit.t)?;
-        if !ray_t.contains(hit.t) {
-            return None;
-        }
-        plane.hit_record(ray, hit, self.shape.uv(hit.alpha, hit.beta))
+        self.record(ray, ray_t, hit)
     }
 
     #[inline]

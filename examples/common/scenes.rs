@@ -184,15 +184,14 @@ fn cornell_block(
     .expect("a valid motion")
 }
 
-/// The walls, the lamp and a tall box: what both Cornell scenes have.
+/// The walls, the lamp and a tall box: what both Cornell scenes have. The walls and the
+/// lamp are one `Vec<Quad>` in the world (a single entry whose loop over the six quads is
+/// compiled for `Quad`), not six boxed entries each called through a `dyn Hittable`.
 fn cornell_room() -> (Vec<Material>, Vec<Box<dyn hitkit::Hittable>>, Quad) {
     use hitkit::Hittable;
-    let (materials, walls, lamp) = cornell_walls();
-    let mut world: Vec<Box<dyn Hittable>> = walls
-        .into_iter()
-        .map(|w| Box::new(w) as Box<dyn Hittable>)
-        .collect();
-    world.push(Box::new(lamp));
+    let (materials, mut walls, lamp) = cornell_walls();
+    walls.push(lamp);
+    let mut world: Vec<Box<dyn Hittable>> = vec![Box::new(walls)];
     world.push(Box::new(cornell_block(
         [165.0, 330.0, 165.0],
         15.0,
