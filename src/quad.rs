@@ -119,9 +119,6 @@ impl<S: Interior> Quad<S> {
     pub fn shape(&self) -> &S {
         &self.shape
     }
-}
-
-impl<S: Interior> Quad<S> {
     /// The record of the decided crossing `hit`. A `t` that rounding put before or past the
     /// box moves onto it, so that a `Bvh` (whose boxes contain this one) finds every hit a
     /// loop over the shapes finds; only then is it compared with `ray_t`.
@@ -156,7 +153,9 @@ impl<S: Interior> Hittable for Quad<S> {
         let plane = &self.plane;
         // Whatever the decision below, the reported t is at least t - 3 reach (the refined
         // crossing's own reach is no larger than this one's): `crossing` rejects a t past
-        // ray_t.max by more, and only that.
+        // ray_t.max by more (and crossings the shape's rectangle shows clearly outside it).
+        // A crossing clearly inside a shape that fills its rectangle is decided there, and
+        // `record` alone compares its t with ray_t.
         let window = self
             .shape
             .coordinate_bounds()
