@@ -431,30 +431,22 @@ impl Plane {
     #[inline(always)]
     fn clearly(
         &self,
-        parts: &Parts,
+        p: &Parts,
         hit: &PlaneHit,
         ray: &Ray,
         [lo, hi]: [DVec2; 2],
     ) -> Option<Clearly> {
-        let Parts {
-            a,
-            b,
-            big_p,
-            across,
-            slack,
-            c,
-            d1,
-        } = *parts;
+        let slack = p.slack;
         if slack.is_nan() || slack <= 0.0 {
             return None;
         }
         let e = self.frame_error;
-        let height = gamma(4) * a
-            + gamma(3) * b
-            + e * (big_p + across)
-            + gamma(2) * hit.t.abs() * c
+        let height = gamma(4) * p.a
+            + gamma(3) * p.b
+            + e * (p.big_p + p.across)
+            + gamma(2) * hit.t.abs() * p.c
             + self.tolerance;
-        let world = across + gamma(3) * big_p + self.frame_reach() + self.tolerance;
+        let world = p.across + gamma(3) * p.big_p + self.frame_reach() + self.tolerance;
         let center = [hit.alpha, hit.beta];
         let along = [
             ray.direction.dot(self.to_alpha),
@@ -466,7 +458,7 @@ impl Plane {
         let mut inside = true;
         for i in 0..2 {
             let (scale, x) = (self.coordinate_scale[i], center[i]);
-            let rate = 2.0 * height * (along[i].abs() + gamma(3) * d1 * scale);
+            let rate = 2.0 * height * (along[i].abs() + gamma(3) * p.d1 * scale);
             let fixed = 2.0 * (world * scale + gamma(3) * x.abs());
             if ((lo[i] - x).max(x - hi[i]) - fixed) * slack > rate {
                 return Some(Clearly::Outside);
