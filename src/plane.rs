@@ -81,29 +81,20 @@ enum Clearly {
     Inside,
 }
 
-/// The magnitudes a crossing's error bounds are made of ([`Plane::crossing_region`]):
-/// `|q - o|_1`, `|t| |d|_1`, `|p|_1`, the error across the ray before the frame's, the
-/// slack (the height gained per unit of `t`, less its error), `|n.d|` and `|d|_1`.
+/// What a crossing's error bounds are made of ([`Plane::crossing_region`]), computed once
+/// for the clear decision and the region both: the reach's numerator before its `t` and
+/// tolerance terms (`gamma(4) |q - o|_1 + gamma(3) |t| |d|_1 + e (|p|_1 + across)`), the
+/// error across the ray before the frame's, the tolerance and the drift, the slack (the
+/// height gained per unit of `t`, less its error), `c = |n.d|`, `|d|_1`, and `along` (the
+/// change of `(alpha, beta)` per unit of `t`).
 #[derive(Clone, Copy)]
 struct Parts {
-    a: f64,
-    b: f64,
-    big_p: f64,
+    numerator: f64,
     across: f64,
     slack: f64,
     c: f64,
     d1: f64,
-}
-
-/// The part of a [`CrossingRegion`] that decides whether the rest is needed.
-#[derive(Clone, Copy)]
-struct Bounds {
-    /// Along the ray, in units of `t`.
-    reach: f64,
-    /// Across it, in world space, before the frame's error, the tolerance and the drift.
-    world: f64,
-    /// `|d|_1`.
-    d1: f64,
+    along: DVec2,
 }
 
 /// Where the exact crossing of a ray with a plane can lie, in `(alpha, beta)`, given the
@@ -398,20 +389,20 @@ impl Plane {
         let hit = PlaneHit { t, alpha, beta };
         let parts = self.parts(ray, t, q_minus_o, p, denom.abs());
         if let Some((window, filled)) = window {
-            match self.clearly(&parts, &hit, ray, window) {
+            match self.clearly(&parts, &hit, window) {
                 Some(Clearly::Outside) => return None,
                 Some(Clearly::Inside) if filled => return Some(Crossing::Inside(hit)),
                 _ => {}
             }
         }
-        let bounds = self.bounds_of(&parts, t);
-        if t - 3.0 * bounds.reach > ray_t.max {
+        let reach = self.reach(&parts, t);
+        if t - 3.0 * reach > ray_t.max {
             return None;
         }
         if !((alpha.abs() < f64::INFINITY) & (beta.abs() < f64::INFINITY)) {
             return None;
         }
-        Some(Crossing::Region(hit, self.finish(ray, &hit, bounds)))
+        Some(Crossing::Region(hit, self.finish(&hit, &parts, reach)))
     }
 
     /// Whether the region [`Plane::crossing_region`] would compute for the crossing `hit`
@@ -429,36 +420,21 @@ impl Plane {
     /// decision, it only reaches it sooner. With `slack <= 0` (a reach without bound) it
     /// decides nothing; a non-finite centre is never inside.
     #[inline(always)]
-    fn clearly(
-        &self,
-        p: &Parts,
-        hit: &PlaneHit,
-        ray: &Ray,
-        [lo, hi]: [DVec2; 2],
-    ) -> Option<Clearly> {
+    fn clearly(&self, p: &Parts, hit: &PlaneHit, [lo, hi]: [DVec2; 2]) -> Option<Clearly> {
         let slack = p.slack;
         if slack.is_nan() || slack <= 0.0 {
             return None;
         }
-        let e = self.frame_error;
-        let height = gamma(4) * p.a
-            + gamma(3) * p.b
-            + e * (p.big_p + p.across)
-            + gamma(2) * hit.t.abs() * p.c
-            + self.tolerance;
-        let world = p.across + gamma(3) * p.big_p + self.frame_reach() + self.tolerance;
+        let height = p.numerator + gamma(2) * hit.t.abs() * p.c + self.tolerance;
+        let world = p.across + self.frame_reach() + self.tolerance;
         let center = [hit.alpha, hit.beta];
-        let along = [
-            ray.direction.dot(self.to_alpha),
-            ray.direction.dot(self.to_beta),
-        ];
         // Per coordinate: how far the region reaches from its centre, times the slack, and
         // the slack times the centre's distance beyond the rectangle's edges (`outside`),
         // and within them (`inside`).
         let mut inside = true;
         for i in 0..2 {
             let (scale, x) = (self.coordinate_scale[i], center[i]);
-            let rate = 2.0 * height * (along[i].abs() + gamma(3) * p.d1 * scale);
+            let rate = 2.0 * height * (p.along[i].abs() + gamma(3) * p.d1 * scale);
             let fixed = 2.0 * (world * scale + gamma(3) * x.abs());
             if ((lo[i] - x).max(x - hi[i]) - fixed) * slack > rate {
                 return Some(Clearly::Outside);
@@ -479,77 +455,58 @@ impl Plane {
         p: DVec3,
         c: f64,
     ) -> CrossingRegion {
-        let bounds = self.bounds_of(&self.parts(ray, hit.t, q_minus_o, p, c), hit.t);
-        self.finish(ray, hit, bounds)
+        let parts = self.parts(ray, hit.t, q_minus_o, p, c);
+        self.finish(hit, &parts, self.reach(&parts, hit.t))
     }
 
-    /// The magnitudes the region's widths are made of, from `q - o`, the point `p` and
-    /// `c = |n.d|` as computed.
+    /// The [`Parts`] of a crossing, from `q - o`, the point `p` and `c = |n.d|` as computed.
     #[inline(always)]
     fn parts(&self, ray: &Ray, t: f64, q_minus_o: DVec3, p: DVec3, c: f64) -> Parts {
         let l1 = |v: DVec3| v.abs().element_sum();
         let d1 = l1(ray.direction);
         let (a, b, big_p) = (l1(q_minus_o), t.abs() * d1, l1(p));
+        let across = gamma(2) * (a + b);
         Parts {
-            a,
-            b,
-            big_p,
-            across: gamma(2) * (a + b),
+            numerator: gamma(4) * a + gamma(3) * b + self.frame_error * (big_p + across),
+            across: across + gamma(3) * big_p,
             slack: c - (gamma(3) + self.frame_error) * d1,
             c,
             d1,
+            along: DVec2::new(
+                ray.direction.dot(self.to_alpha),
+                ray.direction.dot(self.to_beta),
+            ),
         }
     }
 
-    /// The first half of a region: the reach along the ray (see
-    /// [`Plane::crossing_region`]), and the error across it before the drift.
+    /// The reach along the ray, in units of `t` (see [`Plane::crossing_region`]).
     #[inline(always)]
-    fn bounds_of(&self, parts: &Parts, t: f64) -> Bounds {
-        let Parts {
-            a,
-            b,
-            big_p,
-            across,
-            slack,
-            c,
-            d1,
-        } = *parts;
-        let e = self.frame_error;
-        let reach = if slack > 0.0 {
+    fn reach(&self, p: &Parts, t: f64) -> f64 {
+        let slack = p.slack;
+        if slack > 0.0 {
             // One division: the tolerance's rate is the slack too, above a slope of 2^-52.
             let inv = 1.0 / slack;
-            let tolerance = if slack >= d1 * f64::EPSILON {
+            let tolerance = if slack >= p.d1 * f64::EPSILON {
                 self.tolerance * inv
             } else {
-                self.tolerance_along(slack, d1)
+                self.tolerance_along(slack, p.d1)
             };
-            (gamma(4) * a + gamma(3) * b + e * (big_p + across)) * inv
-                + gamma(2) * t.abs() * (c * inv)
-                + tolerance
+            p.numerator * inv + gamma(2) * t.abs() * (p.c * inv) + tolerance
         } else {
             f64::INFINITY
-        };
-        Bounds {
-            reach,
-            world: across + gamma(3) * big_p,
-            d1,
         }
     }
 
-    /// The second half: `along`, the drift over the reach, and the radius.
+    /// The region from its reach: the drift over the reach, and the radius.
     #[inline(always)]
-    fn finish(&self, ray: &Ray, hit: &PlaneHit, bounds: Bounds) -> CrossingRegion {
-        let along = DVec2::new(
-            ray.direction.dot(self.to_alpha),
-            ray.direction.dot(self.to_beta),
-        );
-        let drift = if bounds.reach < f64::INFINITY {
-            bounds.reach * gamma(3) * bounds.d1
+    fn finish(&self, hit: &PlaneHit, p: &Parts, reach: f64) -> CrossingRegion {
+        let drift = if reach < f64::INFINITY {
+            reach * gamma(3) * p.d1
         } else {
             f64::INFINITY
         };
-        let world = bounds.world + self.frame_reach() + self.tolerance + drift;
-        self.region(hit, along, bounds.reach, world * self.coordinate_scale)
+        let world = p.across + self.frame_reach() + self.tolerance + drift;
+        self.region(hit, p.along, reach, world * self.coordinate_scale)
     }
 
     /// The tolerance along the ray, in units of `t`: as far as the ray goes while its

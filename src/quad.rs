@@ -119,6 +119,7 @@ impl<S: Interior> Quad<S> {
     pub fn shape(&self) -> &S {
         &self.shape
     }
+
     /// The record of the decided crossing `hit`. A `t` that rounding put before or past the
     /// box moves onto it, so that a `Bvh` (whose boxes contain this one) finds every hit a
     /// loop over the shapes finds; only then is it compared with `ray_t`.
