@@ -38,6 +38,31 @@ pub enum GeometryError {
         /// The domain it must lie in, for the message.
         domain: &'static str,
     },
+    /// An element of a list (a mesh's vertex, say) is NaN or infinite.
+    NonFiniteElement {
+        /// Which list.
+        what: &'static str,
+        /// The element's position in it.
+        index: usize,
+    },
+    /// A face names a vertex that does not exist.
+    IndexOutOfRange {
+        /// The face's position in the list of faces.
+        face: usize,
+        /// The vertex index it names.
+        index: u32,
+        /// How many vertices there are.
+        vertices: usize,
+    },
+    /// A list is longer than the structure can number (`u32` indices).
+    TooMany {
+        /// Which list.
+        what: &'static str,
+        /// Its length.
+        count: usize,
+        /// The most it may hold.
+        max: usize,
+    },
     /// Two inputs that must be equally long are not (one weight per light, say).
     LengthMismatch {
         /// The input whose length is off.
@@ -60,6 +85,20 @@ impl fmt::Display for GeometryError {
             ),
             Self::InvalidParameter { what, value, domain } => {
                 write!(f, "{what} = {value} lies outside {domain}")
+            }
+            Self::NonFiniteElement { what, index } => {
+                write!(f, "{what} {index} is not finite (NaN or infinite)")
+            }
+            Self::IndexOutOfRange {
+                face,
+                index,
+                vertices,
+            } => write!(
+                f,
+                "face {face} names vertex {index}, but there are {vertices} vertices"
+            ),
+            Self::TooMany { what, count, max } => {
+                write!(f, "{count} {what} is more than the {max} that can be numbered")
             }
             Self::LengthMismatch {
                 what,

@@ -37,7 +37,11 @@ macro_rules! impl_approx {
     };
 }
 
-impl_approx!(Ray { origin, direction });
+impl_approx!(Ray {
+    origin,
+    direction,
+    time
+});
 impl_approx!(Interval { min, max });
 impl_approx!(Aabb { min, max });
 impl_approx!(PlaneHit { t, alpha, beta });

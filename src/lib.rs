@@ -97,6 +97,8 @@ mod interval;
 mod light;
 mod list;
 mod math;
+mod mesh;
+mod moving;
 mod plane;
 mod quad;
 mod ray;
@@ -122,6 +124,8 @@ pub use interval::Interval;
 #[cfg_attr(docsrs, doc(cfg(feature = "rand")))]
 pub use light::RandomDirection;
 pub use light::{Mixture, Polygon, SampleInterior, Sampling};
+pub use mesh::{Face, TriangleMesh};
+pub use moving::Moving;
 pub use plane::{CrossingRegion, Plane, PlaneHit};
 pub use quad::Quad;
 pub use ray::Ray;

@@ -1,16 +1,21 @@
-//! [`Ray`]: an origin and a direction.
+//! [`Ray`]: an origin, a direction and a time.
 
 use glam::DVec3;
 
-/// A ray `origin + t * direction`.
+/// A ray `origin + t * direction`, sent at `time`.
 ///
 /// The direction need not be unit length: hits report `t` in units of `direction`, and
 /// whether a surface is hit does not depend on the direction's length.
+///
+/// `time` is the book's `ray.time()`: the moment the ray samples, for objects that move
+/// ([`Moving`](crate::Moving)); 0 unless set with [`Ray::at_time`]. Static shapes ignore
+/// it, and [`HitRecord::spawn_ray`](crate::HitRecord::spawn_ray) passes it on.
 ///
 /// ```
 /// use hitkit::{glam::DVec3, Ray};
 /// let ray = Ray::new(DVec3::ZERO, DVec3::new(0.0, 0.0, -2.0));
 /// assert_eq!(ray.at(1.5), DVec3::new(0.0, 0.0, -3.0));
+/// assert_eq!((ray.time, ray.at_time(0.25).time), (0.0, 0.25));
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
@@ -19,14 +24,29 @@ pub struct Ray {
     pub origin: DVec3,
     /// Where it goes; any finite, non-zero vector.
     pub direction: DVec3,
+    /// When it is sent; moving objects are where they are at this time.
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub time: f64,
 }
 
 impl Ray {
-    /// A ray from `origin` along `direction`.
+    /// A ray from `origin` along `direction`, at time 0.
     #[inline]
     #[must_use]
     pub const fn new(origin: DVec3, direction: DVec3) -> Self {
-        Self { origin, direction }
+        Self {
+            origin,
+            direction,
+            time: 0.0,
+        }
+    }
+
+    /// The same ray at `time`.
+    #[inline]
+    #[must_use]
+    pub const fn at_time(mut self, time: f64) -> Self {
+        self.time = time;
+        self
     }
 
     /// The point at parameter `t`.

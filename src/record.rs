@@ -16,6 +16,13 @@ pub struct MaterialId(pub u32);
 ///
 /// `normal` is unit length and faces against the ray; `front_face` says whether the ray
 /// came from the side the shape's outward normal points to.
+///
+/// Which part of which object was hit, through any nesting: `primitive` is set by shapes
+/// made of many parts (a [`TriangleMesh`](crate::TriangleMesh)'s face, in the caller's
+/// numbering), and `instance` by a [`Transformed`](crate::Transformed) given an id with
+/// [`with_instance_id`](crate::Transformed::with_instance_id); a `Bvh`, `Box`, `Arc` or
+/// list passes both on unchanged. Fields of the record (not a generic query) keep
+/// [`Hittable`](crate::Hittable) object safe, and cost nothing to pass along.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct HitRecord {
@@ -26,14 +33,26 @@ pub struct HitRecord {
     /// A bound on the absolute error of each coordinate of `point`: the exact surface
     /// point lies within `point ± point_error`. [`HitRecord::spawn_ray`] uses it.
     pub point_error: DVec3,
-    /// Unit surface normal, facing against the incoming ray.
+    /// Unit surface normal, facing against the incoming ray: the geometric normal, which
+    /// [`HitRecord::spawn_ray`] goes by.
     pub normal: DVec3,
+    /// Unit normal for shading, on the same side as `normal`: interpolated from a mesh's
+    /// vertex normals where it has them, otherwise `normal` itself.
+    pub shading_normal: DVec3,
     /// Whether the ray hit the side the outward normal points to.
     pub front_face: bool,
     /// Surface coordinates; each shape documents its mapping.
     pub uv: DVec2,
     /// The material of the shape that was hit.
     pub material: MaterialId,
+    /// The part of the shape that was hit: a [`TriangleMesh`](crate::TriangleMesh)'s face
+    /// index; `None` for shapes of one part.
+    pub primitive: Option<u32>,
+    /// The id of the outermost [`Transformed`](crate::Transformed) instance with one that
+    /// the hit came through; `None` if none.
+    pub instance: Option<u32>,
+    /// The ray's [`time`](Ray::time), which [`HitRecord::spawn_ray`] passes on.
+    pub time: f64,
 }
 
 impl HitRecord {
@@ -41,7 +60,8 @@ impl HitRecord {
     /// `outward_normal` and the ray's direction; its `point_error` is zero (an exact point),
     /// its `uv` zero and its material the default, until set with
     /// [`with_point_error`](Self::with_point_error), [`with_uv`](Self::with_uv) and
-    /// [`with_material`](Self::with_material).
+    /// [`with_material`](Self::with_material); its shading normal is `normal`, its ids
+    /// `None`, and its time the ray's.
     ///
     /// ```
     /// use hitkit::glam::{DVec2, DVec3};
@@ -71,9 +91,34 @@ impl HitRecord {
             point_error: DVec3::ZERO,
             normal,
             front_face,
+            shading_normal: normal,
             uv: DVec2::ZERO,
             material: MaterialId::default(),
+            primitive: None,
+            instance: None,
+            time: ray.time,
         }
+    }
+
+    /// The same record with the shading normal `shading_normal` (unit length), turned to
+    /// the side of `normal` if it points away from it.
+    #[inline]
+    #[must_use]
+    pub fn with_shading_normal(mut self, shading_normal: DVec3) -> Self {
+        self.shading_normal = if shading_normal.dot(self.normal) < 0.0 {
+            -shading_normal
+        } else {
+            shading_normal
+        };
+        self
+    }
+
+    /// The same record with `primitive` set to `Some(primitive)`.
+    #[inline]
+    #[must_use]
+    pub fn with_primitive(mut self, primitive: u32) -> Self {
+        self.primitive = Some(primitive);
+        self
     }
 
     /// The same record with a bound on the absolute error of each coordinate of `point`.
@@ -102,7 +147,7 @@ impl HitRecord {
 
     /// A ray leaving the hit point along `direction` that does not hit the same surface
     /// again at `t >= 0`, with no epsilon on the renderer's side: trace it with
-    /// [`Interval::FORWARD`](crate::Interval::FORWARD).
+    /// [`Interval::FORWARD`](crate::Interval::FORWARD). It is sent at the record's `time`.
     ///
     /// The origin is moved off the surface, to the side `direction` points to, by the
     /// point's error bound projected on the normal, then rounded one more float away
@@ -142,5 +187,6 @@ impl HitRecord {
             origin.clamp(DVec3::splat(f64::MIN), DVec3::splat(f64::MAX)),
             direction,
         )
+        .at_time(self.time)
     }
 }

@@ -38,6 +38,7 @@ pub struct Transformed<T> {
     inverse: DMat3,
     translation: DVec3,
     bbox: Aabb,
+    instance: Option<u32>,
 }
 
 impl<T: Hittable> Transformed<T> {
@@ -112,11 +113,53 @@ impl<T: Hittable> Transformed<T> {
             inverse: rotation.transpose(),
             translation,
             bbox,
+            instance: None,
         })
     }
 }
 
 impl<T> Transformed<T> {
+    /// The same instance, naming itself `id` in the hits that come through it
+    /// ([`HitRecord::instance`]): the outermost instance with an id names the hit, so in a
+    /// top-level [`Bvh`](crate::Bvh) of instances of shared meshes, the id says which
+    /// instance and [`HitRecord::primitive`] which face.
+    ///
+    /// ```
+    /// use std::sync::Arc;
+    /// use hitkit::glam::{DQuat, DVec3};
+    /// use hitkit::{Bvh, Hittable, Interval, Ray, Transformed, TriangleMesh};
+    ///
+    /// # fn main() -> Result<(), hitkit::GeometryError> {
+    /// let square = Arc::new(TriangleMesh::new(
+    ///     &[DVec3::ZERO, DVec3::X, DVec3::new(1.0, 1.0, 0.0), DVec3::Y],
+    ///     &[[0, 1, 2], [0, 2, 3]],
+    /// )?);
+    /// let row: Bvh<_> = (0..10)
+    ///     .map(|i| {
+    ///         let at = DVec3::new(2.0 * f64::from(i), 0.0, 0.0);
+    ///         Transformed::new(square.clone(), DQuat::IDENTITY, at).map(|t| t.with_instance_id(i))
+    ///     })
+    ///     .collect::<Result<_, _>>()?;
+    /// let ray = Ray::new(DVec3::new(14.2, 0.7, 1.0), DVec3::NEG_Z);
+    /// let hit = row.hit(&ray, Interval::FORWARD).unwrap();
+    /// assert_eq!((hit.instance, hit.primitive), (Some(7), Some(1)));
+    /// # Ok(())
+    /// # }
+    /// ```
+    #[inline]
+    #[must_use]
+    pub fn with_instance_id(mut self, id: u32) -> Self {
+        self.instance = Some(id);
+        self
+    }
+
+    /// The id given by [`Transformed::with_instance_id`], if any.
+    #[inline]
+    #[must_use]
+    pub fn instance_id(&self) -> Option<u32> {
+        self.instance
+    }
+
     /// The object, in its own space.
     #[inline]
     #[must_use]
@@ -150,6 +193,7 @@ impl<T> Transformed<T> {
             self.point_to_object(ray.origin),
             self.inverse * ray.direction,
         )
+        .at_time(ray.time)
     }
 
     /// An object-space hit in world space.
@@ -170,6 +214,8 @@ impl<T> Transformed<T> {
             point_error: carried + rounding,
             // Unit length to within a few ulps: the rotation is orthonormal to rounding.
             normal: self.rotation * hit.normal,
+            shading_normal: self.rotation * hit.shading_normal,
+            instance: self.instance.or(hit.instance),
             ..hit
         }
     }

@@ -23,33 +23,9 @@ use hitkit::{
 };
 use proptest::prelude::*;
 use support::distance::{planar_bound, to_polygon};
-use support::{SplitMix, brute_force};
+use support::{SplitMix, brute_force, placements, rotation};
 
 const FORWARD: Interval = Interval::FORWARD;
-
-/// Offsets that round every corner built from them (none is a power of two), 0 to ~1e12.
-const OFFSETS: [f64; 5] = [0.0, 1234.567, 1.1e6 + 0.3, 3.3e9 + 0.7, 1.7e12 + 0.1];
-/// Sizes from 1e-6 to 1e6 (not powers of two either).
-const SIZES: [f64; 5] = [1.3e-6, 1.7e-3, 1.1, 1.9e3, 1.3e6];
-
-/// Whether a shape of `size` at `offset` is representable with room to spare: its size is
-/// at least 2^20 ulps of the offset, so that it is more than its own rounding.
-fn meaningful(offset: f64, size: f64) -> bool {
-    size >= offset * f64::EPSILON * 1048576.0
-}
-
-/// Every (offset, size) pair of `OFFSETS` and `SIZES` that is [`meaningful`].
-fn placements() -> impl Iterator<Item = (f64, f64)> {
-    OFFSETS
-        .iter()
-        .flat_map(|&offset| SIZES.iter().map(move |&size| (offset, size)))
-        .filter(|&(offset, size)| meaningful(offset, size))
-}
-
-/// A rotation about a random axis by a random angle, as a user's `from_axis_angle` makes.
-fn rotation(rng: &mut SplitMix) -> DMat3 {
-    DMat3::from_axis_angle(rng.direction(), std::f64::consts::TAU * rng.next_f64())
-}
 
 /// The distance from `p` to the annulus `inner R <= |x - q| <= R` of the circle of radius
 /// `R = |u| = |v|` (u perpendicular to v) around `q`.
@@ -362,67 +338,9 @@ fn tiles_built_from_q_plus_u_leave_no_crack() {
 /// A subdivided icosahedron of radius `radius` around `centre`, rotated by `rot`: vertices
 /// shared between faces, faces as `(a, b, c)` indices with outward order.
 fn icosphere(centre: DVec3, radius: f64, rot: DMat3, levels: u32) -> (Vec<DVec3>, Vec<[usize; 3]>) {
-    let t = (1.0 + 5f64.sqrt()) / 2.0;
-    let mut unit: Vec<DVec3> = [
-        (-1.0, t, 0.0),
-        (1.0, t, 0.0),
-        (-1.0, -t, 0.0),
-        (1.0, -t, 0.0),
-        (0.0, -1.0, t),
-        (0.0, 1.0, t),
-        (0.0, -1.0, -t),
-        (0.0, 1.0, -t),
-        (t, 0.0, -1.0),
-        (t, 0.0, 1.0),
-        (-t, 0.0, -1.0),
-        (-t, 0.0, 1.0),
-    ]
-    .iter()
-    .map(|&(x, y, z)| DVec3::new(x, y, z).normalize())
-    .collect();
-    let mut faces: Vec<[usize; 3]> = vec![
-        [0, 11, 5],
-        [0, 5, 1],
-        [0, 1, 7],
-        [0, 7, 10],
-        [0, 10, 11],
-        [1, 5, 9],
-        [5, 11, 4],
-        [11, 10, 2],
-        [10, 7, 6],
-        [7, 1, 8],
-        [3, 9, 4],
-        [3, 4, 2],
-        [3, 2, 6],
-        [3, 6, 8],
-        [3, 8, 9],
-        [4, 9, 5],
-        [2, 4, 11],
-        [6, 2, 10],
-        [8, 6, 7],
-        [9, 8, 1],
-    ];
-    for _ in 0..levels {
-        let mut middle = std::collections::HashMap::new();
-        let mut mid = |a: usize, b: usize, unit: &mut Vec<DVec3>| {
-            *middle.entry((a.min(b), a.max(b))).or_insert_with(|| {
-                unit.push((unit[a] + unit[b]).normalize());
-                unit.len() - 1
-            })
-        };
-        faces = faces
-            .iter()
-            .flat_map(|&[a, b, c]| {
-                let (ab, bc, ca) = (
-                    mid(a, b, &mut unit),
-                    mid(b, c, &mut unit),
-                    mid(c, a, &mut unit),
-                );
-                [[a, ab, ca], [b, bc, ab], [c, ca, bc], [ab, bc, ca]]
-            })
-            .collect();
-    }
+    let (unit, faces) = support::icosphere(levels);
     let vertices = unit.iter().map(|&p| centre + rot * (radius * p)).collect();
+    let faces = faces.iter().map(|f| f.map(|i| i as usize)).collect();
     (vertices, faces)
 }
 

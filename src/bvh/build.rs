@@ -8,7 +8,7 @@ use alloc::vec::Vec;
 
 use glam::{DVec3, Vec4};
 
-use super::{Bvh, MAX_DEPTH, Pair};
+use super::{Bvh, MAX_DEPTH, Pair, Tree};
 use crate::{Aabb, Hittable};
 
 /// Centroid bins per axis.
@@ -80,79 +80,131 @@ struct Child {
     count: u32,
 }
 
-pub(super) fn build<T: Hittable>(mut objects: Vec<T>) -> Bvh<T> {
-    assert!(
-        u32::try_from(objects.len()).is_ok(),
-        "a Bvh holds at most u32::MAX objects"
-    );
+pub(super) fn build<T: Hittable>(mut objects: Vec<T>, parallel: bool) -> Bvh<T> {
     let boxes: Vec<Aabb> = objects.iter().map(Hittable::bounding_box).collect();
-    let bbox = boxes.iter().fold(Aabb::EMPTY, |b, o| b.union(o));
-    // The centre of the bounded objects' box: nodes store their bounds relative to it, so
-    // that f32 keeps its precision however far from the world's origin the scene sits.
-    let bounded = boxes
-        .iter()
-        .filter(|b| b.is_bounded())
-        .fold(Aabb::EMPTY, |b, o| b.union(o));
-    let origin = if bounded.is_bounded() {
-        let centre = 0.5 * bounded.min() + 0.5 * bounded.max();
-        // Rounded to f32's precision where it has it, so that differences from it stay
-        // exact more often.
-        let rounded = centre.as_vec3();
-        if rounded.is_finite() {
-            rounded.as_dvec3()
-        } else {
-            centre
-        }
-    } else {
-        DVec3::ZERO
-    };
-    let mut prims = Vec::with_capacity(objects.len());
-    let mut unbounded = Vec::new();
-    for (index, b) in (0u32..).zip(&boxes) {
-        let (lo, hi) = (b.min().to_array(), b.max().to_array());
-        let o = origin.to_array();
-        let [x0, y0, z0] = [0, 1, 2].map(|k| below(lo[k], o[k]));
-        let [x1, y1, z1] = [0, 1, 2].map(|k| above(hi[k], o[k]));
-        let (min, max) = (
-            Vec4::new(x0, y0, z0, f32::from_bits(index)),
-            Vec4::new(x1, y1, z1, 0.0),
-        );
-        // Infinite boxes (and boxes past f32's range) stay out of the SAH arithmetic: such
-        // objects are tested on every ray.
-        if b.is_bounded() && min.truncate().is_finite() && max.truncate().is_finite() {
-            prims.push(Prim { min, max });
-        } else {
-            unbounded.push(index);
-        }
-    }
-
-    let mut builder = Builder {
-        pairs: Vec::new(),
-        bins: Box::new(Bins::default()),
-    };
-    if !prims.is_empty() {
-        let empty = Child {
-            bounds: Box3::EMPTY,
-            index: 0,
-            count: 0,
-        };
-        builder.pairs.reserve(prims.len());
-        builder.pairs.push(pair(empty, empty));
-        let extent = Extent::of(&prims);
-        let root = builder.node(&mut prims, 0, 0, extent);
-        builder.pairs[0] = pair(root, empty);
-    }
-    let pairs = builder.pairs;
-
-    let order: Vec<u32> = prims.iter().map(Prim::index).chain(unbounded).collect();
-    permute(&mut objects, &order);
+    let (tree, bbox) = Tree::build(boxes.len(), |i| boxes[i], Shape::OBJECTS, parallel);
+    drop(boxes);
+    permute(&mut objects, &tree.order);
     Bvh {
         objects,
-        order,
-        bounded: prims.len(),
-        pairs,
-        origin,
+        tree,
         bbox,
+    }
+}
+
+/// How the surface area heuristic weighs a node against its objects.
+#[derive(Clone, Copy)]
+pub(crate) struct Shape {
+    /// Cost of visiting a node, relative to testing one object.
+    pub(crate) traversal_cost: f64,
+}
+
+impl Shape {
+    /// For a [`Bvh`] of arbitrary objects: a node costs about one object test.
+    pub(crate) const OBJECTS: Self = Self {
+        traversal_cost: TRAVERSAL_COST,
+    };
+}
+
+impl Tree {
+    /// The tree over `count` objects whose boxes `box_of` gives (called twice per object),
+    /// and the union of all the boxes; `parallel` builds large subtrees side by side (with
+    /// the `rayon` feature; the same tree).
+    ///
+    /// # Panics
+    /// If `count` exceeds `u32::MAX`.
+    pub(crate) fn build(
+        count: usize,
+        box_of: impl Fn(usize) -> Aabb,
+        shape: Shape,
+        parallel: bool,
+    ) -> (Self, Aabb) {
+        assert!(
+            u32::try_from(count).is_ok(),
+            "a tree holds at most u32::MAX objects"
+        );
+        let (mut bbox, mut bounded) = (Aabb::EMPTY, Aabb::EMPTY);
+        for i in 0..count {
+            let b = box_of(i);
+            bbox = bbox.union(&b);
+            if b.is_bounded() {
+                bounded = bounded.union(&b);
+            }
+        }
+        // The centre of the bounded objects' box: nodes store their bounds relative to it,
+        // so that f32 keeps its precision however far from the world's origin the scene
+        // sits.
+        let origin = if bounded.is_bounded() {
+            let centre = 0.5 * bounded.min() + 0.5 * bounded.max();
+            // Rounded to f32's precision where it has it, so that differences from it stay
+            // exact more often.
+            let rounded = centre.as_vec3();
+            if rounded.is_finite() {
+                rounded.as_dvec3()
+            } else {
+                centre
+            }
+        } else {
+            DVec3::ZERO
+        };
+        let mut prims = Vec::with_capacity(count);
+        let mut unbounded = Vec::new();
+        let o = origin.to_array();
+        for index in 0..count as u32 {
+            let b = box_of(index as usize);
+            let (lo, hi) = (b.min().to_array(), b.max().to_array());
+            let (min, max) = (
+                Vec4::new(
+                    below(lo[0], o[0]),
+                    below(lo[1], o[1]),
+                    below(lo[2], o[2]),
+                    f32::from_bits(index),
+                ),
+                Vec4::new(
+                    above(hi[0], o[0]),
+                    above(hi[1], o[1]),
+                    above(hi[2], o[2]),
+                    0.0,
+                ),
+            );
+            // Infinite boxes (and boxes past f32's range) stay out of the SAH arithmetic:
+            // such objects are tested on every ray.
+            if b.is_bounded() && min.truncate().is_finite() && max.truncate().is_finite() {
+                prims.push(Prim { min, max });
+            } else {
+                unbounded.push(index);
+            }
+        }
+
+        let mut pairs = Vec::new();
+        if !prims.is_empty() {
+            let empty = Child {
+                bounds: Box3::EMPTY,
+                index: 0,
+                count: 0,
+            };
+            pairs.reserve(prims.len() / 2 + 1);
+            pairs.push(pair(empty, empty));
+            let extent = Extent::of(&prims);
+            let mut builder = Builder::new(shape, parallel);
+            builder.pairs = pairs;
+            let root = builder.node(&mut prims, 0, 0, extent);
+            pairs = builder.pairs;
+            pairs[0] = pair(root, empty);
+            pairs.shrink_to_fit();
+        }
+        let bounded = prims.len();
+        let mut order: Vec<u32> = Vec::with_capacity(count);
+        order.extend(prims.iter().map(Prim::index));
+        drop(prims);
+        order.extend(unbounded);
+        let tree = Self {
+            pairs,
+            origin,
+            order,
+            bounded,
+        };
+        (tree, bbox)
     }
 }
 
@@ -224,9 +276,58 @@ struct Split {
 struct Builder {
     pairs: Vec<Pair>,
     bins: Box<Bins>,
+    shape: Shape,
+    /// Whether to build large subtrees in parallel (only with the `rayon` feature).
+    #[cfg_attr(not(feature = "rayon"), allow(dead_code))]
+    parallel: bool,
 }
 
+/// Nodes with at least this many objects build their two subtrees in parallel (with the
+/// `rayon` feature): below it, the work is too small to be worth a task.
+#[cfg(feature = "rayon")]
+const PARALLEL_FROM: usize = 1 << 14;
+
 impl Builder {
+    fn new(shape: Shape, parallel: bool) -> Self {
+        Self {
+            pairs: Vec::new(),
+            bins: Box::new(Bins::default()),
+            shape,
+            parallel,
+        }
+    }
+
+    /// A subtree in pairs of its own, numbered from 0.
+    #[cfg(feature = "rayon")]
+    fn subtree(
+        mut self,
+        prims: &mut [Prim],
+        offset: usize,
+        depth: usize,
+        extent: Extent,
+    ) -> (Child, Vec<Pair>) {
+        let root = self.node(prims, offset, depth, extent);
+        (root, self.pairs)
+    }
+
+    /// Appends a [`Builder::subtree`]'s pairs, renumbered to where they land.
+    #[cfg(feature = "rayon")]
+    fn graft(&mut self, (mut root, pairs): (Child, Vec<Pair>)) -> Child {
+        let base = self.pairs.len() as u32;
+        let inner = |index: &mut u32, count: u32| {
+            if count == 0 {
+                *index += base;
+            }
+        };
+        self.pairs.extend(pairs.into_iter().map(|mut p| {
+            inner(&mut p.index[0], p.count[0]);
+            inner(&mut p.index[1], p.count[1]);
+            p
+        }));
+        inner(&mut root.index, root.count);
+        root
+    }
+
     /// Builds the subtree over `prims` (at position `offset` of the final order) and
     /// returns its root; the pairs of inner nodes go to `pairs`, parents before children.
     fn node(&mut self, prims: &mut [Prim], offset: usize, depth: usize, extent: Extent) -> Child {
@@ -278,8 +379,27 @@ impl Builder {
         let slot = self.pairs.len();
         self.pairs.push(pair(leaf, leaf));
         let (left, right) = prims.split_at_mut(mid);
-        let a = self.node(left, offset, depth + 1, left_extent);
-        let b = self.node(right, offset + mid, depth + 1, right_extent);
+        #[cfg(feature = "rayon")]
+        let (a, b) = if self.parallel && n >= PARALLEL_FROM {
+            // Both sides in their own pairs, side by side, then appended as the serial
+            // build would have written them (left subtree, then right): the same tree.
+            let shape = self.shape;
+            let (a, b) = rayon::join(
+                || Builder::new(shape, true).subtree(left, offset, depth + 1, left_extent),
+                || Builder::new(shape, true).subtree(right, offset + mid, depth + 1, right_extent),
+            );
+            (self.graft(a), self.graft(b))
+        } else {
+            (
+                self.node(left, offset, depth + 1, left_extent),
+                self.node(right, offset + mid, depth + 1, right_extent),
+            )
+        };
+        #[cfg(not(feature = "rayon"))]
+        let (a, b) = (
+            self.node(left, offset, depth + 1, left_extent),
+            self.node(right, offset + mid, depth + 1, right_extent),
+        );
         self.pairs[slot] = pair(a, b);
         Child {
             bounds: extent.bounds,
@@ -346,7 +466,7 @@ impl Builder {
             side
         };
         Some(Split {
-            cost: TRAVERSAL_COST + cost / extent.bounds.half_area(),
+            cost: self.shape.traversal_cost + cost / extent.bounds.half_area(),
             axis,
             bin,
             sides: [side(0..bin + 1), side(bin + 1..bins)],

@@ -4,6 +4,8 @@
 mod build;
 mod traverse;
 
+pub(crate) use build::Shape;
+
 use alloc::vec::Vec;
 
 use glam::DVec3;
@@ -57,15 +59,31 @@ struct Pair {
 pub struct Bvh<T> {
     /// Bounded objects first, in tree order, then the unbounded ones.
     objects: Vec<T>,
-    /// `order[i]`: the position in the caller's `Vec` of `objects[i]`.
-    order: Vec<u32>,
-    /// How many of `objects` are in the tree.
-    bounded: usize,
+    tree: Tree,
+    bbox: Aabb,
+}
+
+/// The hierarchy itself, over objects known by position: what [`Bvh`] and
+/// [`TriangleMesh`](crate::TriangleMesh) share.
+#[derive(Clone, Debug)]
+pub(crate) struct Tree {
     /// Empty when no object is in the tree.
     pairs: Vec<Pair>,
     /// What the nodes' bounds are relative to: the centre of the bounded objects' box.
     origin: DVec3,
-    bbox: Aabb,
+    /// `order[i]`: the caller's position of the object at position `i` of the tree's
+    /// order (bounded objects first, then the unbounded ones).
+    pub(crate) order: Vec<u32>,
+    /// How many objects are in the tree.
+    bounded: usize,
+}
+
+impl Tree {
+    /// Bytes held, for the memory figures.
+    pub(crate) fn heap_bytes(&self) -> usize {
+        self.pairs.capacity() * core::mem::size_of::<Pair>()
+            + self.order.capacity() * core::mem::size_of::<u32>()
+    }
 }
 
 impl<T: Hittable> Bvh<T> {
@@ -75,7 +93,18 @@ impl<T: Hittable> Bvh<T> {
     /// If there are more than `u32::MAX` objects.
     #[must_use]
     pub fn new(objects: Vec<T>) -> Self {
-        build::build(objects)
+        build::build(objects, false)
+    }
+
+    /// [`Bvh::new`] with large subtrees built side by side on every core: the same tree.
+    ///
+    /// # Panics
+    /// If there are more than `u32::MAX` objects.
+    #[cfg(feature = "rayon")]
+    #[cfg_attr(docsrs, doc(cfg(feature = "rayon")))]
+    #[must_use]
+    pub fn new_parallel(objects: Vec<T>) -> Self {
+        build::build(objects, true)
     }
 
     /// The number of objects.
@@ -106,7 +135,7 @@ impl<T: Hittable> Bvh<T> {
     #[inline]
     #[must_use]
     pub fn original_index(&self, i: usize) -> usize {
-        self.order[i] as usize
+        self.tree.order[i] as usize
     }
 
     /// The closest hit and the position of the object hit in the `Vec` given to
@@ -117,7 +146,7 @@ impl<T: Hittable> Bvh<T> {
         let mut closest: Option<(usize, HitRecord)> = None;
         let mut t_max = ray_t.max;
         self.walk(ray, ray_t, &mut t_max, |objects, first, t_max| {
-            for (object, &index) in objects.iter().zip(&self.order[first..]) {
+            for (object, &index) in objects.iter().zip(&self.tree.order[first..]) {
                 let index = index as usize;
                 if let Some(hit) = object.hit(ray, Interval::new(ray_t.min, *t_max))
                     && (hit.t < *t_max || closest.is_none_or(|(best, _)| index < best))

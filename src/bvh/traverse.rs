@@ -1,6 +1,6 @@
 //! Front-to-back traversal with an explicit stack: no recursion, no allocation.
 
-use super::{Bvh, MAX_DEPTH, Pair};
+use super::{Bvh, MAX_DEPTH, Pair, Tree};
 use crate::aabb::{BoxRay, slab_spans};
 use crate::{Hittable, Interval, Ray};
 
@@ -20,6 +20,7 @@ impl<T: Hittable> Bvh<T> {
     /// within `[ray_t.min, *t_max]`, nearer child first. `visit` gets a run of objects, the
     /// position of the first in `self.objects`, and `t_max`, which it lowers as it finds
     /// hits (later boxes are culled against it); it returns `true` to stop.
+    #[inline]
     pub(super) fn walk(
         &self,
         ray: &Ray,
@@ -27,11 +28,30 @@ impl<T: Hittable> Bvh<T> {
         t_max: &mut f64,
         mut visit: impl FnMut(&[T], usize, &mut f64) -> bool,
     ) {
+        let objects = &self.objects;
+        self.tree.walk(ray, ray_t, t_max, |first, count, t_max| {
+            visit(&objects[first..first + count], first, t_max)
+        });
+    }
+}
+
+impl Tree {
+    /// Offers `visit` the unbounded objects, then every leaf whose box the ray enters
+    /// within `[ray_t.min, *t_max]`, nearer child first, as a run of positions in the
+    /// tree's order (first, count); `visit` lowers `t_max` as it finds hits (later boxes
+    /// are culled against it) and returns `true` to stop.
+    pub(crate) fn walk(
+        &self,
+        ray: &Ray,
+        ray_t: Interval,
+        t_max: &mut f64,
+        mut visit: impl FnMut(usize, usize, &mut f64) -> bool,
+    ) {
         if !ray.is_valid() {
             return;
         }
-        let unbounded = &self.objects[self.bounded..];
-        if !unbounded.is_empty() && visit(unbounded, self.bounded, t_max) {
+        let unbounded = self.order.len() - self.bounded;
+        if unbounded != 0 && visit(self.bounded, unbounded, t_max) {
             return;
         }
         if self.pairs.is_empty() {
@@ -71,11 +91,8 @@ impl<T: Hittable> Bvh<T> {
                     }
                     (false, false) => {}
                 }
-            } else {
-                let first = index as usize;
-                if visit(&self.objects[first..first + count as usize], first, t_max) {
-                    return;
-                }
+            } else if visit(index as usize, count as usize, t_max) {
+                return;
             }
             // The nearest pending node the ray still reaches before t_max.
             loop {

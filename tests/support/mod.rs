@@ -1,5 +1,5 @@
 //! What several test files share: the rounding bound, a fixed random stream (the one the
-//! benches use), and a set of lights.
+//! benches use), the placements of the contract's shapes, and a set of lights.
 #![allow(dead_code)]
 
 pub mod distance;
@@ -7,7 +7,31 @@ pub mod distance;
 mod scene;
 
 #[allow(unused_imports)] // not every test file uses it
-pub use scene::SplitMix;
+pub use scene::{SplitMix, icosphere};
+
+/// Offsets that round every corner built from them (none is a power of two), 0 to ~1e12.
+pub const OFFSETS: [f64; 5] = [0.0, 1234.567, 1.1e6 + 0.3, 3.3e9 + 0.7, 1.7e12 + 0.1];
+/// Sizes from 1e-6 to 1e6 (not powers of two either).
+pub const SIZES: [f64; 5] = [1.3e-6, 1.7e-3, 1.1, 1.9e3, 1.3e6];
+
+/// Whether a shape of `size` at `offset` is representable with room to spare: its size is
+/// at least 2^20 ulps of the offset, so that it is more than its own rounding.
+pub fn meaningful(offset: f64, size: f64) -> bool {
+    size >= offset * f64::EPSILON * 1048576.0
+}
+
+/// Every (offset, size) pair of `OFFSETS` and `SIZES` that is [`meaningful`].
+pub fn placements() -> impl Iterator<Item = (f64, f64)> {
+    OFFSETS
+        .iter()
+        .flat_map(|&offset| SIZES.iter().map(move |&size| (offset, size)))
+        .filter(|&(offset, size)| meaningful(offset, size))
+}
+
+/// A rotation about a random axis by a random angle, as a user's `from_axis_angle` makes.
+pub fn rotation(rng: &mut SplitMix) -> hitkit::glam::DMat3 {
+    hitkit::glam::DMat3::from_axis_angle(rng.direction(), std::f64::consts::TAU * rng.next_f64())
+}
 
 /// `gamma(k) = k u / (1 - k u)`, `u` the unit roundoff: bounds `k` chained roundings.
 pub fn gamma(k: u32) -> f64 {

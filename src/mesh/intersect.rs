@@ -1,0 +1,219 @@
+//! The watertight ray/triangle test (Woop, Benthin and Wald 2013; pbrt-v4's
+//! `IntersectTriangle`), with the signs of its edge functions settled where rounding leaves
+//! them in doubt.
+
+use glam::{DVec3, Vec3Swizzles};
+
+use crate::Ray;
+use crate::math::{Dd, UNIT_ROUNDOFF, gamma};
+
+/// A ray in the frame the test works in, set up once per ray: the axes permuted so that
+/// `z` is the direction's largest component (a cyclic permutation, which keeps
+/// orientations), and the shear that takes the direction to `(0, 0, 1)`.
+pub(super) struct Sheared {
+    origin: DVec3,
+    direction: DVec3,
+    /// The axis of the direction's largest component.
+    kz: usize,
+    /// `-d_x / d_z` and `-d_y / d_z` in the permuted frame, and `1 / d_z`.
+    shear: DVec3,
+}
+
+/// A face the ray crosses: `t`, and the barycentric weights of its three corners.
+#[derive(Clone, Copy)]
+pub(super) struct Crossing {
+    pub(super) t: f64,
+    pub(super) barycentric: DVec3,
+}
+
+/// Bounds on an edge function's error. Each sheared coordinate `x = a_x + s_x a_z` (with
+/// `a = p - o`, and `s_x = -d_x / d_z`, `|s_x| <= 1`) carries five roundings (`a`'s two
+/// coordinates, `s_x`, the product and the sum), so errs by at most `gamma(5) m` for
+/// `m = |a|_1`; the edge function `x_1 y_2 - y_1 x_2` inherits
+/// `gamma(5) (m_1 r_2 + m_2 r_1) + 2 gamma(5)^2 m_1 m_2` from them (`r = |x| + |y|`) and
+/// adds `gamma(2) r_1 r_2` of its own. Doubled, for the rounding of the bound itself: the
+/// tight bound ([`tight_bound`]). Since `r <= m` to within rounding, the loose bound
+/// `EDGE_ERROR m_1 m_2` holds too and costs less: the test tries it first. The tight one
+/// matters for rays from far away (`m` much larger than the face), where the loose one
+/// would leave every sign in doubt.
+const EDGE_ERROR: f64 = 2.0 * (4.0 * gamma(5) + 2.0 * gamma(2));
+
+/// The same for the determinant as double-double arithmetic computes it ([`settle`]),
+/// `(p - o) . ((q - p) x d)`, over `|p - o|_1 |q - p|_1 |d|_1`: the differences are exact,
+/// and every operation after them errs by at most `4 u^2` of the magnitudes it combines
+/// (Hida, Li and Bailey 2001), in chains of fewer than ten: `256 u^2` is ample.
+const EDGE_ERROR_DD: f64 = 256.0 * UNIT_ROUNDOFF * UNIT_ROUNDOFF;
+
+/// Corners farther than this from the ray's origin (in `|.|_1`) are not decided: the
+/// products of their coordinates could overflow.
+const LARGEST: f64 = 1e150;
+
+impl Sheared {
+    /// `None` for a ray that cannot be traced.
+    #[inline]
+    pub(super) fn new(ray: &Ray) -> Option<Self> {
+        if !ray.is_valid() {
+            return None;
+        }
+        let d = ray.direction.abs();
+        let kz = if d.x >= d.y && d.x >= d.z {
+            0
+        } else if d.y >= d.z {
+            1
+        } else {
+            2
+        };
+        let p = permute(ray.direction, kz);
+        let shear = DVec3::new(-p.x / p.z, -p.y / p.z, 1.0 / p.z);
+        shear.is_finite().then_some(Self {
+            origin: ray.origin,
+            direction: ray.direction,
+            kz,
+            shear,
+        })
+    }
+
+    /// Whether the ray crosses the triangle `p`, and where. The three edge functions are
+    /// computed from the corners alone, each exactly the negative of the same edge's in a
+    /// face that shares it (the products commute, and rounding is symmetric): a ray through
+    /// a shared edge is inside one face or the other, or on the edge and inside both.
+    ///
+    /// A value within its rounding bound of zero has its sign settled in double-double
+    /// arithmetic ([`settle`]); the rare one that even that leaves in doubt keeps its `f64`
+    /// sign (or zero), which its neighbour's value mirrors. Every sign decided either way is the
+    /// exact one or the mirrored one, so faces sharing an edge agree on which side the ray
+    /// passes.
+    #[inline(always)]
+    pub(super) fn test(&self, p: &[DVec3; 3]) -> Option<Crossing> {
+        let s = self.shear;
+        let a0 = permute(p[0] - self.origin, self.kz);
+        let a1 = permute(p[1] - self.origin, self.kz);
+        let a2 = permute(p[2] - self.origin, self.kz);
+        let (x0, y0) = (a0.x + s.x * a0.z, a0.y + s.y * a0.z);
+        let (x1, y1) = (a1.x + s.x * a1.z, a1.y + s.y * a1.z);
+        let (x2, y2) = (a2.x + s.x * a2.z, a2.y + s.y * a2.z);
+        let e0 = x1 * y2 - y1 * x2;
+        let e1 = x2 * y0 - y2 * x0;
+        let e2 = x0 * y1 - y0 * x1;
+        // Mixed signs, each beyond its bound: a miss (the common case), decided without
+        // the bounds where the signs are not mixed.
+        let (m0, m1, m2) = (l1(a0), l1(a1), l1(a2));
+        let (b0, b1, b2) = (
+            EDGE_ERROR * m1 * m2,
+            EDGE_ERROR * m2 * m0,
+            EDGE_ERROR * m0 * m1,
+        );
+        let positive = (e0 > b0) | (e1 > b1) | (e2 > b2);
+        let negative = (e0 < -b0) | (e1 < -b1) | (e2 < -b2);
+        if positive & negative {
+            return None;
+        }
+        let certain = (e0.abs() > b0) & (e1.abs() > b1) & (e2.abs() > b2);
+        let (s0, s1, s2) = if certain {
+            (sign(e0), sign(e1), sign(e2))
+        } else {
+            // Coordinates so large that the products may overflow (a ray from past about
+            // 1e150): no decision.
+            let m = m0.max(m1).max(m2);
+            if m.is_nan() || m >= LARGEST {
+                return None;
+            }
+            let (r0, r1, r2) = (
+                x0.abs() + y0.abs(),
+                x1.abs() + y1.abs(),
+                x2.abs() + y2.abs(),
+            );
+            let settled = |e: f64, b: f64, tight: f64, i: usize, j: usize| {
+                if e.abs() > b || e.abs() > tight {
+                    sign(e)
+                } else {
+                    settle(self, p[i], p[j]).unwrap_or(sign(e))
+                }
+            };
+            (
+                settled(e0, b0, tight_bound(m1, r1, m2, r2), 1, 2),
+                settled(e1, b1, tight_bound(m2, r2, m0, r0), 2, 0),
+                settled(e2, b2, tight_bound(m0, r0, m1, r1), 0, 1),
+            )
+        };
+        let positive = (s0 > 0.0) | (s1 > 0.0) | (s2 > 0.0);
+        let negative = (s0 < 0.0) | (s1 < 0.0) | (s2 < 0.0);
+        if positive == negative {
+            // Mixed signs, or all zero (a ray in the plane of the face).
+            return None;
+        }
+        // The values with the face's orientation; zero on the edge, and where the sign was
+        // settled against the computed value (whose size is then below its rounding).
+        let o = if positive { 1.0 } else { -1.0 };
+        let orient = |e: f64, s: f64| if s * o > 0.0 { (e * o).max(0.0) } else { 0.0 };
+        let (e0, e1, e2) = (orient(e0, s0), orient(e1, s1), orient(e2, s2));
+        let det = e0 + e1 + e2;
+        let t = (e0 * a0.z + e1 * a1.z + e2 * a2.z) * s.z / det;
+        let barycentric = DVec3::new(e0, e1, e2) / det;
+        (t.abs() < f64::INFINITY && barycentric.is_finite()).then_some(Crossing { t, barycentric })
+    }
+}
+
+/// The exact sign (`+-1`) of the edge function of the corners `p` and `q`, or `None` where
+/// double-double arithmetic cannot settle it either. The edge function is `1 / d_z` times
+/// `det(p - o, q - o, d)` (the shear subtracts multiples of `d` from `p - o` and `q - o`,
+/// which leaves their determinant with `d` unchanged), and that determinant is
+/// `(p - o) . ((q - p) x d)`: one factor as large as the ray's distance, the other as
+/// small as the edge, so that the cancellation a ray from far away brings stays within
+/// double-double's reach (the form `(p - o) x (q - o)` would square the distance).
+#[cold]
+#[inline(never)]
+fn settle(ray: &Sheared, p: DVec3, q: DVec3) -> Option<f64> {
+    let (o, d) = (ray.origin, ray.direction);
+    let a = [Dd::diff(p.x, o.x), Dd::diff(p.y, o.y), Dd::diff(p.z, o.z)];
+    let e = [Dd::diff(q.x, p.x), Dd::diff(q.y, p.y), Dd::diff(q.z, p.z)];
+    // (q - p) x d, then its dot product with p - o.
+    let cross = |i: usize, j: usize| e[i].mul_f64(d[j]).add(e[j].mul_f64(d[i]).neg());
+    let c = [cross(1, 2), cross(2, 0), cross(0, 1)];
+    let value = a[0].mul(c[0]).add(a[1].mul(c[1])).add(a[2].mul(c[2])).hi;
+    let size = |x: [Dd; 3]| x[0].hi.abs() + x[1].hi.abs() + x[2].hi.abs();
+    let bound = EDGE_ERROR_DD * size(a) * size(e) * d.abs().element_sum();
+    let d_z = d[ray.kz];
+    (value.abs() > bound).then(|| {
+        if (value > 0.0) == (d_z > 0.0) {
+            1.0
+        } else {
+            -1.0
+        }
+    })
+}
+
+/// The tight bound on the error of the edge function of two corners with `|p - o|_1` of
+/// `m` and sheared `|x| + |y|` of `r` (see [`EDGE_ERROR`]).
+#[inline(always)]
+fn tight_bound(m1: f64, r1: f64, m2: f64, r2: f64) -> f64 {
+    let g = gamma(5);
+    2.0 * (g * (m1 * r2 + m2 * r1) + 2.0 * g * g * m1 * m2 + gamma(2) * r1 * r2)
+}
+
+/// `+-1` by the sign of `e`, 0 for zero (and NaN).
+#[inline(always)]
+fn sign(e: f64) -> f64 {
+    if e > 0.0 {
+        1.0
+    } else if e < 0.0 {
+        -1.0
+    } else {
+        0.0
+    }
+}
+
+/// `v` with its axes permuted cyclically so that axis `kz` comes last.
+#[inline(always)]
+fn permute(v: DVec3, kz: usize) -> DVec3 {
+    match kz {
+        0 => v.yzx(),
+        1 => v.zxy(),
+        _ => v,
+    }
+}
+
+#[inline(always)]
+fn l1(v: DVec3) -> f64 {
+    v.x.abs() + v.y.abs() + v.z.abs()
+}

@@ -1,0 +1,89 @@
+//! A [`TriangleMesh`] as a light: sampled uniformly by area.
+
+use glam::{DVec2, DVec3};
+
+use super::TriangleMesh;
+use super::intersect::Sheared;
+use crate::math::{sqrt, unit_and_length};
+use crate::{Interval, PdfHittable, Ray};
+
+/// Sampled uniformly by area: a face with probability in proportion to its area, then a
+/// point uniformly on it. An emissive mesh is then a light like any other.
+///
+/// ```
+/// use hitkit::glam::{DVec2, DVec3};
+/// use hitkit::{PdfHittable, TriangleMesh};
+///
+/// // A 2 x 2 square of two triangles, 1 above the origin.
+/// let y = 1.0;
+/// let corners = [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)].map(|(x, z)| DVec3::new(x, y, z));
+/// let light = TriangleMesh::new(&corners, &[[0, 1, 2], [0, 2, 3]]).unwrap();
+/// // Toward (0.5, 1, 0): distance^2 1.25, cosine 1 / sqrt(1.25), area 4.
+/// let pdf = light.pdf_value(DVec3::ZERO, DVec3::new(0.5, 1.0, 0.0));
+/// assert!((pdf - 1.25f64.powf(1.5) / 4.0).abs() < 1e-15);
+/// let d = light.sample_direction(DVec3::ZERO, DVec2::new(0.3, 0.6));
+/// assert!(d.y == 1.0 && light.pdf_value(DVec3::ZERO, d) > 0.0);
+/// ```
+impl PdfHittable for TriangleMesh {
+    /// The sum, over every face the ray from `origin` along `direction` crosses (at `t >=
+    /// 0`, not only the nearest: sampling picks points whether or not they are in view),
+    /// of `distance^2 / (|cos| area)`. 0 where nothing is crossed and wherever the sum is
+    /// not a finite number.
+    fn pdf_value(&self, origin: DVec3, direction: DVec3) -> f64 {
+        let ray = Ray::new(origin, direction);
+        let (Some(sheared), area) = (Sheared::new(&ray), self.area()) else {
+            return 0.0;
+        };
+        let (unit, length) = unit_and_length(direction);
+        let mut sum = 0.0;
+        let mut t_max = f64::INFINITY;
+        self.tree
+            .walk(&ray, Interval::FORWARD, &mut t_max, |first, count, _| {
+                for position in first..first + count {
+                    if let Some(c) = self.cross(&sheared, &ray, Interval::FORWARD, position) {
+                        let [p0, p1, p2] = self.corners_at(position);
+                        let (normal, _) = unit_and_length((p1 - p0).cross(p2 - p0));
+                        let distance = c.t * length;
+                        sum += distance * distance / (normal.dot(unit).abs() * area);
+                    }
+                }
+                false
+            });
+        if sum < f64::INFINITY { sum } else { 0.0 }
+    }
+
+    /// `p - origin` for a point `p` drawn uniformly by area: `u.x` picks the face (by the
+    /// running sums of the areas) and, rescaled within the face's share, with `u.y` the
+    /// point on it (the square-root warp, as for [`Triangle`](crate::Triangle)). `u` is
+    /// first clamped into `[0, 1]^2`; the zero vector for a mesh without area or a
+    /// non-finite origin.
+    fn sample_direction(&self, origin: DVec3, u: DVec2) -> DVec3 {
+        let area = self.area();
+        if !(origin.is_finite() && area > 0.0) {
+            return DVec3::ZERO;
+        }
+        let u = u.clamp(DVec2::ZERO, DVec2::ONE);
+        let target = u.x * area;
+        let position = self
+            .cumulative_area
+            .partition_point(|&c| c <= target)
+            .min(self.cumulative_area.len() - 1);
+        let below = if position == 0 {
+            0.0
+        } else {
+            self.cumulative_area[position - 1]
+        };
+        let share = self.cumulative_area[position] - below;
+        let within = ((target - below) / share).clamp(0.0, 1.0);
+        let [p0, p1, p2] = self.corners_at(position);
+        let s = sqrt(if within.is_finite() { within } else { 0.0 });
+        let (b1, b2) = (1.0 - s, u.y * s);
+        let toward = |k: f64| (k * p0 - k * origin) + (b1 * k * (p1 - p0) + b2 * k * (p2 - p0));
+        let direction = toward(1.0);
+        if direction.is_finite() {
+            direction
+        } else {
+            toward(0.25)
+        }
+    }
+}

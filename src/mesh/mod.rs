@@ -1,0 +1,466 @@
+//! [`TriangleMesh`]: triangles that share their vertices, with a tree of their own,
+//! watertight by construction.
+
+mod intersect;
+mod light;
+
+use alloc::vec::Vec;
+
+use glam::{DVec2, DVec3};
+
+use crate::bvh::{Shape, Tree};
+use crate::math::{gamma, unit_and_length};
+use crate::{Aabb, GeometryError, HitRecord, Hittable, Interval, MaterialId, Ray};
+
+use intersect::{Crossing, Sheared};
+
+/// An indexed triangle mesh: vertex positions shared by faces that name them by index,
+/// optional per-vertex normals and texture coordinates, and a tree over the faces.
+///
+/// Built from slices (reading a file format is left to the caller: `tobj`, say). A hit
+/// reports which face it is in [`HitRecord::primitive`], numbered as the caller's list of
+/// faces numbers them; `uv` is the interpolated texture coordinates where the mesh has
+/// them and the barycentric coordinates `(b1, b2)` of the hit (the weights of the face's
+/// second and third vertices) where it does not; `shading_normal` is the interpolated
+/// vertex normal where it has them. [`TriangleMesh::faces`] gives each face as a
+/// [`Hittable`] of its own, with its barycentrics.
+///
+/// **Watertight.** Inside or outside is decided by the three edge functions of the face in
+/// a frame of the ray (Woop, Benthin and Wald 2013, "Watertight Ray/Triangle
+/// Intersection"; pbrt-v4's `IntersectTriangle`), computed from the shared vertices so that
+/// an edge's value in one face is exactly the negative of its value in the neighbour: a ray
+/// through a shared edge or vertex always finds a face. Where a value is within its
+/// rounding bound of zero, its sign is settled in double-double arithmetic, so that a hit
+/// is a hit of the exact ray on the exact triangle however far away the ray comes from.
+///
+/// **Degenerate faces** (two vertices at one position, or three on a line, so that the
+/// cross product of the edges is zero) are kept out of the tree and never hit; the other
+/// faces keep their numbers.
+///
+/// ```
+/// use hitkit::glam::DVec3;
+/// use hitkit::{Hittable, Interval, Ray, TriangleMesh};
+///
+/// # fn main() -> Result<(), hitkit::GeometryError> {
+/// // A unit square of two triangles sharing the diagonal, and a degenerate third face.
+/// let vertices = [DVec3::ZERO, DVec3::X, DVec3::new(1.0, 1.0, 0.0), DVec3::Y];
+/// let square = TriangleMesh::new(&vertices, &[[0, 1, 2], [0, 0, 3], [0, 2, 3]])?;
+/// assert_eq!((square.face_count(), square.hittable_face_count()), (3, 2));
+///
+/// // Straight through the diagonal: one of its two faces takes it.
+/// let ray = Ray::new(DVec3::new(0.5, 0.5, 1.0), DVec3::NEG_Z);
+/// let hit = square.hit(&ray, Interval::FORWARD).unwrap();
+/// assert!(hit.t == 1.0 && (hit.primitive == Some(0) || hit.primitive == Some(2)));
+///
+/// let ray = Ray::new(DVec3::new(0.2, 0.7, 1.0), DVec3::NEG_Z);
+/// assert_eq!(square.hit(&ray, Interval::FORWARD).unwrap().primitive, Some(2));
+/// # Ok(())
+/// # }
+/// ```
+#[derive(Clone, Debug)]
+pub struct TriangleMesh {
+    vertices: Vec<DVec3>,
+    /// Empty, or one per vertex.
+    normals: Vec<DVec3>,
+    /// Empty, or one per vertex.
+    uvs: Vec<DVec2>,
+    /// The faces that can be hit, in the tree's order; `tree.order[i]` is the caller's
+    /// number of `triangles[i]`.
+    triangles: Vec<[u32; 3]>,
+    tree: Tree,
+    /// How many faces the caller gave, degenerate ones included.
+    faces: usize,
+    bbox: Aabb,
+    material: MaterialId,
+    /// Running sums of the triangles' areas, in the tree's order: what sampling by area
+    /// picks a face from.
+    cumulative_area: Vec<f64>,
+}
+
+/// How the mesh's tree weighs a node against its faces: a face test costs about as much
+/// as a visit to a pair of nodes, and leaves of a few faces keep the tree small (see
+/// [`TriangleMesh::heap_bytes`]).
+const MESH_SHAPE: Shape = Shape {
+    traversal_cost: 2.0,
+};
+
+impl TriangleMesh {
+    /// The mesh of `faces`, each three indices into `vertices`.
+    ///
+    /// # Errors
+    /// - [`GeometryError::NonFiniteElement`] for a NaN or infinite vertex;
+    /// - [`GeometryError::IndexOutOfRange`] for a face naming a vertex past the end;
+    /// - [`GeometryError::OutOfRange`] for a face whose edges' cross product overflows
+    ///   (coordinates past about 1e154);
+    /// - [`GeometryError::TooMany`] for more than `u32::MAX` faces.
+    pub fn new(vertices: &[DVec3], faces: &[[u32; 3]]) -> Result<Self, GeometryError> {
+        Self::build(vertices, faces, false)
+    }
+
+    /// [`TriangleMesh::new`], with the tree built on every core: the same mesh.
+    ///
+    /// # Errors
+    /// As [`TriangleMesh::new`].
+    #[cfg(feature = "rayon")]
+    #[cfg_attr(docsrs, doc(cfg(feature = "rayon")))]
+    pub fn new_parallel(vertices: &[DVec3], faces: &[[u32; 3]]) -> Result<Self, GeometryError> {
+        Self::build(vertices, faces, true)
+    }
+
+    fn build(
+        vertices: &[DVec3],
+        faces: &[[u32; 3]],
+        parallel: bool,
+    ) -> Result<Self, GeometryError> {
+        if faces.len() > u32::MAX as usize {
+            return Err(GeometryError::TooMany {
+                what: "faces",
+                count: faces.len(),
+                max: u32::MAX as usize,
+            });
+        }
+        if let Some(index) = vertices.iter().position(|v| !v.is_finite()) {
+            return Err(GeometryError::NonFiniteElement {
+                what: "vertex",
+                index,
+            });
+        }
+        let mut kept: Vec<u32> = Vec::with_capacity(faces.len());
+        for (face, &corners) in (0u32..).zip(faces) {
+            for index in corners {
+                if index as usize >= vertices.len() {
+                    return Err(GeometryError::IndexOutOfRange {
+                        face: face as usize,
+                        index,
+                        vertices: vertices.len(),
+                    });
+                }
+            }
+            let [a, b, c] = corners.map(|i| vertices[i as usize]);
+            let cross = (b - a).cross(c - a);
+            if !cross.is_finite() {
+                return Err(GeometryError::OutOfRange);
+            }
+            if cross != DVec3::ZERO {
+                kept.push(face);
+            }
+        }
+        let box_of = |i: usize| face_box(corners(vertices, faces[kept[i] as usize]));
+        let (mut tree, bbox) = Tree::build(kept.len(), box_of, MESH_SHAPE, parallel);
+        for position in &mut tree.order {
+            *position = kept[*position as usize];
+        }
+        drop(kept);
+        let triangles: Vec<[u32; 3]> = tree.order.iter().map(|&f| faces[f as usize]).collect();
+        let mut total = 0.0;
+        let cumulative_area = triangles
+            .iter()
+            .map(|&face| {
+                let [a, b, c] = corners(vertices, face);
+                total += 0.5 * unit_and_length((b - a).cross(c - a)).1;
+                total
+            })
+            .collect();
+        Ok(Self {
+            vertices: vertices.to_vec(),
+            normals: Vec::new(),
+            uvs: Vec::new(),
+            triangles,
+            tree,
+            faces: faces.len(),
+            bbox,
+            material: MaterialId::default(),
+            cumulative_area,
+        })
+    }
+
+    /// The same mesh with one normal per vertex, interpolated into each hit's
+    /// `shading_normal` (normalized there; where the interpolation is zero, the face's own
+    /// normal is used).
+    ///
+    /// # Errors
+    /// [`GeometryError::LengthMismatch`] unless there is one normal per vertex,
+    /// [`GeometryError::NonFiniteElement`] for a NaN or infinite one.
+    pub fn with_normals(mut self, normals: &[DVec3]) -> Result<Self, GeometryError> {
+        self.normals = per_vertex("normals", normals, self.vertices.len(), |n| n.is_finite())?;
+        Ok(self)
+    }
+
+    /// The same mesh with texture coordinates per vertex, interpolated into each hit's `uv`.
+    ///
+    /// # Errors
+    /// [`GeometryError::LengthMismatch`] unless there is one pair per vertex,
+    /// [`GeometryError::NonFiniteElement`] for a NaN or infinite one.
+    pub fn with_uvs(mut self, uvs: &[DVec2]) -> Result<Self, GeometryError> {
+        self.uvs = per_vertex("uvs", uvs, self.vertices.len(), |uv| uv.is_finite())?;
+        Ok(self)
+    }
+
+    /// The same mesh with material `material`, carried into every hit (the face index in
+    /// [`HitRecord::primitive`] lets a renderer choose per face).
+    #[inline]
+    #[must_use]
+    pub fn with_material(mut self, material: MaterialId) -> Self {
+        self.material = material;
+        self
+    }
+
+    /// How many faces were given, degenerate ones included.
+    #[inline]
+    #[must_use]
+    pub fn face_count(&self) -> usize {
+        self.faces
+    }
+
+    /// How many faces can be hit: those that are not degenerate.
+    #[inline]
+    #[must_use]
+    pub fn hittable_face_count(&self) -> usize {
+        self.triangles.len()
+    }
+
+    /// The vertex positions.
+    #[inline]
+    #[must_use]
+    pub fn vertices(&self) -> &[DVec3] {
+        &self.vertices
+    }
+
+    /// The material.
+    #[inline]
+    #[must_use]
+    pub fn material(&self) -> MaterialId {
+        self.material
+    }
+
+    /// The total area of the faces.
+    #[inline]
+    #[must_use]
+    pub fn area(&self) -> f64 {
+        self.cumulative_area.last().copied().unwrap_or(0.0)
+    }
+
+    /// The bytes the mesh holds on the heap: vertices, indices, normals and uvs, the tree
+    /// and the sampling table.
+    #[must_use]
+    pub fn heap_bytes(&self) -> usize {
+        use core::mem::size_of;
+        self.vertices.capacity() * size_of::<DVec3>()
+            + self.normals.capacity() * size_of::<DVec3>()
+            + self.uvs.capacity() * size_of::<DVec2>()
+            + self.triangles.capacity() * size_of::<[u32; 3]>()
+            + self.cumulative_area.capacity() * size_of::<f64>()
+            + self.tree.heap_bytes()
+    }
+
+    /// The hittable faces, each a [`Hittable`] of its own, in no particular order.
+    pub fn faces(&self) -> impl ExactSizeIterator<Item = Face<'_>> {
+        (0..self.triangles.len()).map(|position| Face {
+            mesh: self,
+            position,
+        })
+    }
+
+    /// The corners of the face at `position` of the tree's order.
+    #[inline(always)]
+    fn corners_at(&self, position: usize) -> [DVec3; 3] {
+        corners(&self.vertices, self.triangles[position])
+    }
+
+    /// The crossing of the face at `position` with `ray`, if its `t` (kept within the
+    /// face's box along the ray) lies in `ray_t`.
+    #[inline(always)]
+    fn cross(
+        &self,
+        sheared: &Sheared,
+        ray: &Ray,
+        ray_t: Interval,
+        position: usize,
+    ) -> Option<Crossing> {
+        let p = self.corners_at(position);
+        let mut crossing = sheared.test(&p)?;
+        crossing.t = face_box(p).clamp_hit(ray, Interval::UNIVERSE, crossing.t)?;
+        ray_t.contains(crossing.t).then_some(crossing)
+    }
+
+    /// The closest crossing, its position in the tree's order, by the same rule as
+    /// [`Bvh::hit_with_index`](crate::Bvh::hit_with_index): of faces hit at exactly the
+    /// same `t`, the one the caller numbered first.
+    fn closest(&self, ray: &Ray, ray_t: Interval) -> Option<(usize, Crossing)> {
+        let sheared = Sheared::new(ray)?;
+        let mut closest: Option<(usize, Crossing)> = None;
+        let mut t_max = ray_t.max;
+        let order = &self.tree.order;
+        self.tree
+            .walk(ray, ray_t, &mut t_max, |first, count, t_max| {
+                for position in first..first + count {
+                    if let Some(c) =
+                        self.cross(&sheared, ray, Interval::new(ray_t.min, *t_max), position)
+                        && (c.t < *t_max
+                            || closest.is_none_or(|(best, _)| order[position] < order[best]))
+                    {
+                        *t_max = c.t;
+                        closest = Some((position, c));
+                    }
+                }
+                false
+            });
+        closest
+    }
+
+    /// The hit record of `crossing` of the face at `position`.
+    fn record(&self, ray: &Ray, position: usize, crossing: &Crossing) -> Option<HitRecord> {
+        let face = self.triangles[position];
+        let [p0, p1, p2] = self.corners_at(position);
+        let b = crossing.barycentric;
+        let (w0, w1, w2) = (b.x * p0, b.y * p1, b.z * p2);
+        let point = w0 + w1 + w2;
+        // pbrt-v4 (`Triangle::InteractionFromIntersection`): the weights sum to one to
+        // within a few roundings, and the sum of the weighted corners adds its own.
+        let point_error = gamma(7) * (w0.abs() + w1.abs() + w2.abs());
+        let (normal, _) = unit_and_length((p1 - p0).cross(p2 - p0));
+        let uv = if self.uvs.is_empty() {
+            DVec2::new(b.y, b.z)
+        } else {
+            let [a, c, d] = face.map(|i| self.uvs[i as usize]);
+            b.x * a + b.y * c + b.z * d
+        };
+        let mut record = HitRecord::new(ray, crossing.t, point, normal)
+            .with_point_error(point_error)
+            .with_uv(uv)
+            .with_material(self.material)
+            .with_primitive(self.tree.order[position]);
+        if !self.normals.is_empty() {
+            let [a, c, d] = face.map(|i| self.normals[i as usize]);
+            let (shading, length) = unit_and_length(b.x * a + b.y * c + b.z * d);
+            if length > 0.0 && shading.is_finite() {
+                record = record.with_shading_normal(shading);
+            }
+        }
+        (record.point.is_finite() && record.point_error.is_finite() && normal.is_finite())
+            .then_some(record)
+    }
+}
+
+impl Hittable for TriangleMesh {
+    fn hit(&self, ray: &Ray, ray_t: Interval) -> Option<HitRecord> {
+        let (position, crossing) = self.closest(ray, ray_t)?;
+        self.record(ray, position, &crossing)
+    }
+
+    /// The box of the vertices of the hittable faces.
+    #[inline]
+    fn bounding_box(&self) -> Aabb {
+        self.bbox
+    }
+
+    /// Stops at the first face found that the ray crosses within `ray_t`.
+    fn occluded(&self, ray: &Ray, ray_t: Interval) -> bool {
+        let Some(sheared) = Sheared::new(ray) else {
+            return false;
+        };
+        let mut found = false;
+        let mut t_max = ray_t.max;
+        self.tree.walk(ray, ray_t, &mut t_max, |first, count, _| {
+            found = (first..first + count).any(|p| self.cross(&sheared, ray, ray_t, p).is_some());
+            found
+        });
+        found
+    }
+}
+
+/// One face of a [`TriangleMesh`], as a [`Hittable`] of its own: exactly the decision and
+/// the hit the mesh makes for that face, so that a loop over the faces finds what the
+/// mesh's tree finds.
+///
+/// ```
+/// use hitkit::glam::DVec3;
+/// use hitkit::{Hittable, Interval, Ray, TriangleMesh};
+///
+/// let mesh = TriangleMesh::new(&[DVec3::ZERO, DVec3::X, DVec3::Y], &[[0, 1, 2]]).unwrap();
+/// let face = mesh.faces().next().unwrap();
+/// let ray = Ray::new(DVec3::new(0.25, 0.5, 1.0), DVec3::NEG_Z);
+/// let (hit, b) = face.hit_barycentric(&ray, Interval::FORWARD).unwrap();
+/// assert_eq!((face.index(), hit.t), (0, 1.0));
+/// assert_eq!(b, DVec3::new(0.25, 0.25, 0.5)); // the weights of the three corners
+/// assert_eq!(hit.point, DVec3::new(0.25, 0.5, 0.0));
+/// ```
+#[derive(Clone, Copy, Debug)]
+pub struct Face<'a> {
+    mesh: &'a TriangleMesh,
+    position: usize,
+}
+
+impl Face<'_> {
+    /// The face's number in the list the mesh was built from.
+    #[inline]
+    #[must_use]
+    pub fn index(&self) -> u32 {
+        self.mesh.tree.order[self.position]
+    }
+
+    /// The face's three vertex indices.
+    #[inline]
+    #[must_use]
+    pub fn indices(&self) -> [u32; 3] {
+        self.mesh.triangles[self.position]
+    }
+
+    /// The hit and its barycentric coordinates: the weights of the three corners, each at
+    /// least 0, summing to 1 to within rounding.
+    #[must_use]
+    pub fn hit_barycentric(&self, ray: &Ray, ray_t: Interval) -> Option<(HitRecord, DVec3)> {
+        let sheared = Sheared::new(ray)?;
+        let crossing = self.mesh.cross(&sheared, ray, ray_t, self.position)?;
+        let record = self.mesh.record(ray, self.position, &crossing)?;
+        Some((record, crossing.barycentric))
+    }
+}
+
+impl Hittable for Face<'_> {
+    #[inline]
+    fn hit(&self, ray: &Ray, ray_t: Interval) -> Option<HitRecord> {
+        self.hit_barycentric(ray, ray_t).map(|(hit, _)| hit)
+    }
+
+    #[inline]
+    fn bounding_box(&self) -> Aabb {
+        face_box(self.mesh.corners_at(self.position))
+    }
+}
+
+#[inline(always)]
+fn corners(vertices: &[DVec3], [a, b, c]: [u32; 3]) -> [DVec3; 3] {
+    [
+        vertices[a as usize],
+        vertices[b as usize],
+        vertices[c as usize],
+    ]
+}
+
+/// The box of a face's corners, grown by an ulp or two of its coordinates: a ray whose
+/// crossing is settled within double-double rounding of an edge still meets it.
+#[inline(always)]
+fn face_box([a, b, c]: [DVec3; 3]) -> Aabb {
+    let (min, max) = (a.min(b).min(c), a.max(b).max(c));
+    Aabb { min, max }.grown(gamma(2) * min.abs().max(max.abs()))
+}
+
+fn per_vertex<T: Copy>(
+    what: &'static str,
+    values: &[T],
+    vertices: usize,
+    finite: impl Fn(&T) -> bool,
+) -> Result<Vec<T>, GeometryError> {
+    if values.len() != vertices {
+        return Err(GeometryError::LengthMismatch {
+            what,
+            expected: vertices,
+            found: values.len(),
+        });
+    }
+    if let Some(index) = values.iter().position(|v| !finite(v)) {
+        return Err(GeometryError::NonFiniteElement { what, index });
+    }
+    Ok(values.to_vec())
+}
