@@ -16,8 +16,11 @@ use std::sync::atomic::AtomicU64;
 use std::sync::atomic::Ordering::Relaxed;
 use std::time::{Duration, Instant};
 
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::sync::atomic::AtomicUsize;
+
 use hitkit::glam::DVec3;
-use hitkit::{Aabb, Bvh, Hittable, Interval, Quad, Ray, Triangle};
+use hitkit::{Aabb, Bvh, Hittable, Interval, Quad, Ray, Triangle, TriangleMesh};
 use nalgebra::{Point3, Vector3};
 use obvhs::BvhBuildParams;
 use obvhs::cwbvh::CwBvh;
@@ -35,6 +38,10 @@ Options:
                  [default: ../shared/data/stanford-bunny.obj]
   --soups LIST   comma-separated triangle counts of random soups, empty for none
                  [default: 1000,1000000]
+  --sphere L     a closed mesh with shared vertices: an icosphere subdivided L times
+                 (20 * 4^L triangles), 0 for none [default: 8, 1.3M triangles]
+  --mesh-only    only the rows of hitkit's TriangleMesh and obvhs on its own triangles
+                 (for scenes too large for the other rows)
   --rays N       incoherent rays per scene [default: 1000000]
   --side N       camera rays: an N x N grid [default: 1000]
   --runs K       repetitions of every build and trace; the median is reported [default: 3]
@@ -49,6 +56,8 @@ Options:
 struct Args {
     obj: PathBuf,
     soups: Vec<usize>,
+    sphere: u32,
+    mesh_only: bool,
     rays: usize,
     side: usize,
     runs: usize,
@@ -57,11 +66,64 @@ struct Args {
     offset_rays: usize,
 }
 
+/// The system allocator, counting the bytes in use and the most in use since the last
+/// [`reset_peak`]: how the memory columns are measured, for every library alike.
+struct Counting;
+
+static IN_USE: AtomicUsize = AtomicUsize::new(0);
+static PEAK: AtomicUsize = AtomicUsize::new(0);
+
+// SAFETY: forwards to the system allocator unchanged; only counts.
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        // SAFETY: the caller's contract, passed on.
+        let p = unsafe { System.alloc(layout) };
+        if !p.is_null() {
+            let now = IN_USE.fetch_add(layout.size(), Relaxed) + layout.size();
+            PEAK.fetch_max(now, Relaxed);
+        }
+        p
+    }
+
+    unsafe fn dealloc(&self, p: *mut u8, layout: Layout) {
+        // SAFETY: the caller's contract, passed on.
+        unsafe { System.dealloc(p, layout) };
+        IN_USE.fetch_sub(layout.size(), Relaxed);
+    }
+
+    unsafe fn realloc(&self, p: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
+        // SAFETY: the caller's contract, passed on.
+        let q = unsafe { System.realloc(p, layout, new_size) };
+        if !q.is_null() {
+            if new_size >= layout.size() {
+                let now =
+                    IN_USE.fetch_add(new_size - layout.size(), Relaxed) + new_size - layout.size();
+                PEAK.fetch_max(now, Relaxed);
+            } else {
+                IN_USE.fetch_sub(layout.size() - new_size, Relaxed);
+            }
+        }
+        q
+    }
+}
+
+#[global_allocator]
+static ALLOCATOR: Counting = Counting;
+
+/// Starts a new peak at the bytes in use now, and returns them.
+fn reset_peak() -> usize {
+    let now = IN_USE.load(Relaxed);
+    PEAK.store(now, Relaxed);
+    now
+}
+
 /// Parses the arguments after the program name: `Ok(None)` for `--help`.
 fn parse_args(mut args: impl Iterator<Item = String>) -> Result<Option<Args>, String> {
     let mut parsed = Args {
         obj: PathBuf::from("../shared/data/stanford-bunny.obj"),
         soups: vec![1_000, 1_000_000],
+        sphere: 8,
+        mesh_only: false,
         rays: 1_000_000,
         side: 1_000,
         runs: 3,
@@ -73,9 +135,14 @@ fn parse_args(mut args: impl Iterator<Item = String>) -> Result<Option<Args>, St
         if flag == "--help" || flag == "-h" {
             return Ok(None);
         }
+        if flag == "--mesh-only" {
+            parsed.mesh_only = true;
+            continue;
+        }
         if ![
             "--obj",
             "--soups",
+            "--sphere",
             "--rays",
             "--side",
             "--runs",
@@ -98,6 +165,12 @@ fn parse_args(mut args: impl Iterator<Item = String>) -> Result<Option<Args>, St
                     .split(',')
                     .map(|n| count(&flag, n))
                     .collect::<Result<_, _>>()?;
+            }
+            "--sphere" => {
+                parsed.sphere = match value.trim().parse::<u32>() {
+                    Ok(l) if l <= 11 => l,
+                    _ => return Err(format!("`{flag}`: `{value}` is not a level from 0 to 11")),
+                }
             }
             "--rays" => parsed.rays = count(&flag, &value)?,
             "--side" => parsed.side = count(&flag, &value)?,
@@ -163,6 +236,10 @@ struct Measured {
     library: String,
     build: Duration,
     sets: Vec<(f64, Vec<Hit>)>,
+    /// The most bytes in use while building (the input the structure takes over included),
+    /// and the bytes the built structure holds.
+    peak: usize,
+    kept: usize,
 }
 
 /// The median of `runs` calls of `f`, with `f`'s last result. `prepare` runs untimed
@@ -190,12 +267,22 @@ fn median_time<I, T>(
 fn measure<I, B>(
     library: String,
     runs: usize,
-    prepare: impl FnMut() -> I,
-    build: impl FnMut(I) -> B,
+    mut prepare: impl FnMut() -> I,
+    mut build: impl FnMut(I) -> B,
     trace: impl Fn(&B, &Ray) -> Hit,
     ray_sets: &[&[Ray]],
 ) -> Measured {
     eprintln!("  {library}");
+    // Memory first, in a pass of its own: everything allocated from before the input is
+    // made until the structure is built, and what stays.
+    let (peak, kept) = {
+        let base = reset_peak();
+        let built = black_box(build(prepare()));
+        let kept = IN_USE.load(Relaxed) - base;
+        let peak = PEAK.load(Relaxed) - base;
+        drop(built);
+        (peak, kept)
+    };
     let (build_time, built) = median_time(runs, prepare, build);
     let sets = ray_sets
         .iter()
@@ -216,6 +303,8 @@ fn measure<I, B>(
         library,
         build: build_time,
         sets,
+        peak,
+        kept,
     }
 }
 
@@ -229,6 +318,86 @@ fn run_hitkit(quads: &[Quad<Triangle>], runs: usize, ray_sets: &[&[Ray]]) -> Mea
         |bvh, ray| {
             bvh.hit_with_index(ray, Interval::FORWARD)
                 .map(|(index, hit)| (index, hit.t))
+        },
+        ray_sets,
+    )
+}
+
+/// hitkit's [`TriangleMesh`] (its own tree and watertight test) on the scene's shared
+/// vertices and faces; the hit's face is reported as its position among the scene's
+/// non-degenerate triangles, as the other rows number them. With `parallel`, built with
+/// [`TriangleMesh::new_parallel`] on every core.
+fn run_mesh(scene: &Scene, parallel: bool, runs: usize, ray_sets: &[&[Ray]]) -> Measured {
+    let position = scene.positions();
+    let build = |()| {
+        if parallel {
+            TriangleMesh::new_parallel(&scene.vertices, &scene.faces)
+        } else {
+            TriangleMesh::new(&scene.vertices, &scene.faces)
+        }
+        .expect("a valid mesh")
+    };
+    measure(
+        if parallel {
+            "hitkit TriangleMesh (parallel build)".into()
+        } else {
+            "hitkit TriangleMesh".into()
+        },
+        runs,
+        || (),
+        build,
+        |mesh, ray| {
+            mesh.hit(ray, Interval::FORWARD)
+                .map(|hit| (position[hit.primitive.expect("a face") as usize], hit.t))
+        },
+        ray_sets,
+    )
+}
+
+/// obvhs on its own terms: its f32 `Triangle`s (48 bytes each: it has no shared
+/// vertices), `build_cwbvh_from_tris` (medium preset), the triangles laid out in its
+/// primitive order, and its own Möller-Trumbore test (`Triangle::intersect`, not
+/// watertight) at the leaves.
+fn run_obvhs_native(scene: &Scene, runs: usize, ray_sets: &[&[Ray]]) -> Measured {
+    let position = scene.positions();
+    let f = |p: DVec3| p.as_vec3a();
+    measure(
+        "obvhs 0.4 CWBVH medium, own f32 triangles".into(),
+        runs,
+        || -> Vec<obvhs::triangle::Triangle> {
+            scene
+                .faces
+                .iter()
+                .map(|&[a, b, c]| obvhs::triangle::Triangle {
+                    v0: f(scene.vertices[a as usize]),
+                    v1: f(scene.vertices[b as usize]),
+                    v2: f(scene.vertices[c as usize]),
+                })
+                .collect()
+        },
+        |tris| {
+            let tree = obvhs::cwbvh::builder::build_cwbvh_from_tris(
+                &tris,
+                BvhBuildParams::medium_build(),
+                &mut Duration::default(),
+            );
+            let ordered: Vec<obvhs::triangle::Triangle> = tree
+                .primitive_indices
+                .iter()
+                .map(|&i| tris[i as usize])
+                .collect();
+            drop(tris);
+            (tree, ordered)
+        },
+        |(tree, ordered), ray| {
+            let obvhs_ray =
+                obvhs::ray::Ray::new_inf(ray.origin.as_vec3a(), ray.direction.as_vec3a());
+            let mut hit = RayHit::none();
+            tree.ray_traverse(obvhs_ray, &mut hit, |r, id| ordered[id].intersect(r))
+                .then(|| {
+                    let face = tree.primitive_indices[hit.primitive_id as usize] as usize;
+                    (position[face], f64::from(hit.t))
+                })
         },
         ray_sets,
     )
@@ -368,27 +537,79 @@ fn run_obvhs(
     )
 }
 
-/// The triangles of the OBJ file at `path`, triangulated.
-fn load_obj(path: &Path) -> Result<Vec<scene::Tri>, tobj::LoadError> {
+/// A scene as a mesh: vertices, and faces naming them (shared where the source shares
+/// them: the bunny and the sphere; a soup's triangles each own three).
+struct Scene {
+    name: String,
+    vertices: Vec<DVec3>,
+    faces: Vec<[u32; 3]>,
+}
+
+impl Scene {
+    /// A soup: every triangle its own three vertices.
+    fn soup(name: String, tris: &[scene::Tri]) -> Self {
+        Self {
+            name,
+            vertices: tris.iter().flatten().copied().collect(),
+            faces: (0..tris.len() as u32)
+                .map(|i| [3 * i, 3 * i + 1, 3 * i + 2])
+                .collect(),
+        }
+    }
+
+    fn tris(&self) -> Vec<scene::Tri> {
+        self.faces
+            .iter()
+            .map(|f| f.map(|i| self.vertices[i as usize]))
+            .collect()
+    }
+
+    /// For each face, its position among the triangles [`quads`] keeps (`usize::MAX` for
+    /// one it drops): how the rows on [`TriangleMesh`] and on obvhs's own triangles number
+    /// their hits as the other rows do.
+    fn positions(&self) -> Vec<usize> {
+        let mut next = 0;
+        self.tris()
+            .iter()
+            .map(|&[a, b, c]| {
+                if Quad::with_interior(a, b - a, c - a, Triangle).is_ok() {
+                    next += 1;
+                    next - 1
+                } else {
+                    usize::MAX
+                }
+            })
+            .collect()
+    }
+}
+
+/// The OBJ file at `path`, triangulated, its models' vertices and faces merged.
+fn load_obj(name: &str, path: &Path) -> Result<Scene, tobj::LoadError> {
     let options = tobj::LoadOptions {
         triangulate: true,
         ..Default::default()
     };
     let (models, _materials) = tobj::load_obj(path, &options)?;
-    let mut tris = Vec::new();
+    let (mut vertices, mut faces) = (Vec::new(), Vec::new());
     for model in models {
         let mesh = model.mesh;
-        let vertex = |i: u32| {
-            let p = &mesh.positions[3 * i as usize..][..3];
-            DVec3::new(p[0], p[1], p[2])
-        };
-        tris.extend(
+        let base = vertices.len() as u32;
+        vertices.extend(
+            mesh.positions
+                .chunks_exact(3)
+                .map(|p| DVec3::new(p[0], p[1], p[2])),
+        );
+        faces.extend(
             mesh.indices
                 .chunks_exact(3)
-                .map(|f| [vertex(f[0]), vertex(f[1]), vertex(f[2])]),
+                .map(|f| [f[0] + base, f[1] + base, f[2] + base]),
         );
     }
-    Ok(tris)
+    Ok(Scene {
+        name: name.to_owned(),
+        vertices,
+        faces,
+    })
 }
 
 /// The triangles hitkit accepts (the degenerate ones dropped): the one list every library
@@ -431,37 +652,44 @@ fn compare(reference: &[Hit], hits: &[Hit]) -> Option<String> {
     ))
 }
 
-/// Measures every library on one scene; returns the table rows, the checksum rows, and
+/// Measures every library on one scene (with `mesh_only`, only hitkit's `TriangleMesh`
+/// and obvhs on its own triangles); returns the table rows, the checksum rows, and
 /// warnings where a library's hits differ from hitkit's.
-fn run_scene(
-    name: &str,
-    tris: &[scene::Tri],
-    args: &Args,
-) -> (Vec<String>, Vec<String>, Vec<String>) {
-    let quads = quads(tris);
-    let bounds = scene::bounds(tris);
+fn run_scene(scene: &Scene, args: &Args) -> (Vec<String>, Vec<String>, Vec<String>) {
+    let name = scene.name.as_str();
+    let tris = scene.tris();
+    let quads = quads(&tris);
+    let bounds = scene::bounds(&tris);
+    drop(tris);
     let camera = scene::camera_rays(bounds, args.side);
     let random = scene::random_rays(bounds, args.rays, args.seed.wrapping_add(1));
     let sets: [&[Ray]; 2] = [&camera, &random];
     eprintln!("{name}: {} triangles", quads.len());
-    let results = [
-        run_hitkit(&quads, args.runs, &sets),
-        run_bvh_crate(&quads, args.runs, &sets),
-        run_obvhs(
+    let mut results = Vec::new();
+    if !args.mesh_only {
+        results.push(run_hitkit(&quads, args.runs, &sets));
+    }
+    results.push(run_mesh(scene, false, args.runs, &sets));
+    results.push(run_mesh(scene, true, args.runs, &sets));
+    if !args.mesh_only {
+        results.push(run_bvh_crate(&quads, args.runs, &sets));
+        results.push(run_obvhs(
             &quads,
             "fast",
             BvhBuildParams::fast_build(),
             args.runs,
             &sets,
-        ),
-        run_obvhs(
+        ));
+        results.push(run_obvhs(
             &quads,
             "medium",
             BvhBuildParams::medium_build(),
             args.runs,
             &sets,
-        ),
-    ];
+        ));
+    }
+    results.push(run_obvhs_native(scene, args.runs, &sets));
+    let faces = scene.faces.len() as f64;
     let (mut rows, mut checks, mut warnings) = (Vec::new(), Vec::new(), Vec::new());
     for m in &results {
         let [(camera_speed, camera_hits), (random_speed, random_hits)] = &m.sets[..] else {
@@ -470,10 +698,12 @@ fn run_scene(
         let (cn, csum) = summary(camera_hits);
         let (rn, rsum) = summary(random_hits);
         rows.push(format!(
-            "| {name} | {} | {} | {:.1} | {camera_speed:.2} | {random_speed:.2} | {cn} | {rn} |",
+            "| {name} | {} | {} | {:.1} | {camera_speed:.2} | {random_speed:.2} | {:.0} | {:.0} | {cn} | {rn} |",
             quads.len(),
             m.library,
             m.build.as_secs_f64() * 1e3,
+            m.peak as f64 / faces,
+            m.kept as f64 / faces,
         ));
         checks.push(format!(
             "| {name} | {} | {csum:.5e} | {rsum:.5e} |",
@@ -491,10 +721,10 @@ fn run_scene(
             }
         }
     }
-    if quads.len() < tris.len() {
+    if quads.len() < scene.faces.len() {
         warnings.push(format!(
             "note: {name}: {} degenerate triangles dropped",
-            tris.len() - quads.len()
+            scene.faces.len() - quads.len()
         ));
     }
     (rows, checks, warnings)
@@ -598,26 +828,37 @@ fn main() -> ExitCode {
         }
     };
     let mut scenes = Vec::new();
-    match load_obj(&args.obj) {
-        Ok(tris) => scenes.push(("bunny".to_owned(), tris)),
+    match load_obj("bunny", &args.obj) {
+        Ok(scene) => scenes.push(scene),
         Err(e) => eprintln!(
             "warning: skipping the bunny: cannot load {}: {e}",
             args.obj.display()
         ),
     }
     for &n in &args.soups {
-        scenes.push((format!("soup {n}"), scene::triangle_soup(n, args.seed)));
+        scenes.push(Scene::soup(
+            format!("soup {n}"),
+            &scene::triangle_soup(n, args.seed),
+        ));
+    }
+    if args.sphere > 0 {
+        let (vertices, faces) = scene::icosphere(args.sphere);
+        scenes.push(Scene {
+            name: format!("closed sphere {}", faces.len()),
+            vertices,
+            faces,
+        });
     }
     let (mut rows, mut checks, mut warnings) = (Vec::new(), Vec::new(), Vec::new());
-    for (name, tris) in &scenes {
-        let (r, c, w) = run_scene(name, tris, &args);
+    for scene in &scenes {
+        let (r, c, w) = run_scene(scene, &args);
         rows.extend(r);
         checks.extend(c);
         warnings.extend(w);
     }
 
     println!(
-        "{}; single-threaded; {} camera rays ({side} x {side}), {} random rays; median of {} runs; seed {:#x}\n",
+        "{}; single-threaded (but the build of the row marked parallel build, on every core); {} camera rays ({side} x {side}), {} random rays; median of {} runs; seed {:#x}\n",
         scene::machine(),
         args.side * args.side,
         args.rays,
@@ -626,9 +867,9 @@ fn main() -> ExitCode {
         side = args.side,
     );
     println!(
-        "| scene | triangles | library | build ms | camera Mrays/s | random Mrays/s | camera hits | random hits |"
+        "| scene | triangles | library | build ms | camera Mrays/s | random Mrays/s | peak B/tri | kept B/tri | camera hits | random hits |"
     );
-    println!("|---|---:|---|---:|---:|---:|---:|---:|");
+    println!("|---|---:|---|---:|---:|---:|---:|---:|---:|---:|");
     rows.iter().for_each(|r| println!("{r}"));
     println!("\nChecksums (sum of t over the hits):\n");
     println!("| scene | library | camera | random |");
@@ -638,8 +879,9 @@ fn main() -> ExitCode {
         println!();
         warnings.iter().for_each(|w| println!("{w}"));
     }
-    if let Some((name, tris)) = scenes.first().filter(|_| !args.offsets.is_empty()) {
-        let rows = run_offsets(name, tris, &args);
+    if let Some(first) = scenes.first().filter(|_| !args.offsets.is_empty()) {
+        let name = &first.name;
+        let rows = run_offsets(name, &first.tris(), &args);
         println!(
             "\nThe {name} moved by each offset along {OFFSET_DIRECTION} (every coordinate \
              rounds); {} camera rays and {} random rays from the moved bounds; Mrays/s median \
