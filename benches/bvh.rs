@@ -1,12 +1,17 @@
 //! BVH build time and closest-hit throughput on random triangle soups (fixed seed), with
-//! incoherent and coherent rays, and the same scene behind static and dynamic dispatch.
+//! incoherent and coherent rays, and the same scene behind static and dynamic dispatch;
+//! and instancing: a thousand moved instances of one shared mesh against the same
+//! triangles flattened into one mesh.
 //!
 //! `cargo bench --bench bvh`; the scenes and rays are those of `benches/peers`.
 
 use std::hint::black_box;
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
-use hitkit::{Bvh, Hittable, Interval, Quad, Ray, Triangle};
+use std::sync::Arc;
+
+use hitkit::glam::{DQuat, DVec3};
+use hitkit::{Bvh, Hittable, Interval, Quad, Ray, Transformed, Triangle, TriangleMesh};
 
 #[path = "../tests/support/scene.rs"]
 #[allow(dead_code)]
@@ -76,5 +81,46 @@ fn closest_hit(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, build, closest_hit);
+/// A thousand instances of an icosphere of 1,280 faces, each turned and moved at random
+/// within a cube 60 wide (they overlap, as instances in a scene do), in a top-level `Bvh`;
+/// and the same 1.28 million triangles moved one by one into one `TriangleMesh`. Prints the
+/// bytes each holds.
+fn instancing(c: &mut Criterion) {
+    let mut rng = scene::SplitMix::new(SEED);
+    let (unit, faces) = scene::icosphere(3);
+    let shared = Arc::new(TriangleMesh::new(&unit, &faces).unwrap());
+    let (mut vertices, mut flat_faces, mut instances) = (Vec::new(), Vec::new(), Vec::new());
+    for id in 0..1000u32 {
+        let rot = DQuat::from_axis_angle(rng.direction(), std::f64::consts::TAU * rng.next_f64());
+        let at = 60.0 * rng.vec3();
+        let instance = Transformed::new(shared.clone(), rot, at).unwrap();
+        let base = vertices.len() as u32;
+        vertices.extend(unit.iter().map(|&p| instance.rotation() * p + at));
+        flat_faces.extend(faces.iter().map(|f| f.map(|i| i + base)));
+        instances.push(instance.with_instance_id(id));
+    }
+    let instanced = Bvh::new(instances);
+    let flat = TriangleMesh::new(&vertices, &flat_faces).unwrap();
+    eprintln!(
+        "instancing: shared mesh {} bytes, flattened mesh {} bytes",
+        shared.heap_bytes(),
+        flat.heap_bytes()
+    );
+    let bounds = (DVec3::splat(-61.0), DVec3::splat(61.0));
+    let camera = scene::camera_rays(bounds, 100);
+    let random = scene::random_rays(bounds, RAYS, SEED + 1);
+    let mut group = c.benchmark_group("instancing");
+    group.throughput(Throughput::Elements(RAYS as u64));
+    for (kind, rays) in [("camera", &camera), ("random", &random)] {
+        group.bench_with_input(BenchmarkId::new("instanced", kind), rays, |b, rays| {
+            b.iter(|| trace(&instanced, rays))
+        });
+        group.bench_with_input(BenchmarkId::new("flattened", kind), rays, |b, rays| {
+            b.iter(|| trace(&flat, rays))
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, build, closest_hit, instancing);
 criterion_main!(benches);

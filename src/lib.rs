@@ -33,6 +33,10 @@
 //!   `(alpha, beta)` space and include their edges. The built-in ones decide by the region
 //!   where the ray's exact crossing can be ([`CrossingRegion`], [`Interior::meets`]), so
 //!   that shapes sharing an edge leave no crack and nothing beside a shape is hit.
+//! - A [`TriangleMesh`] shares its vertices between faces and decides by edge functions in
+//!   a frame of the ray (watertight by construction); its hits name the face
+//!   ([`HitRecord::primitive`]), and a [`Transformed`] with an id names the instance
+//!   ([`HitRecord::instance`]). [`Moving`] objects are where the ray's `time` puts them.
 //! - Constructors validate their input and return [`GeometryError`]; `hit` on a NaN,
 //!   infinite or zero-direction ray returns `None`. Nothing panics on any `f64` input.
 //!
@@ -72,6 +76,7 @@
 //! | `approx` | no | `approx` 0.5's comparison traits for the value types |
 //! | `serde` | no | `Serialize` / `Deserialize` for the value types, and for `Plane`, `Quad`, `Sphere` as what builds them (through their constructors) |
 //! | `rand` | no | `RandomDirection`: sample a light with any `rand` 0.10 generator |
+//! | `rayon` | no | `Bvh::new_parallel` and `TriangleMesh::new_parallel`: trees built on every core (the same trees); needs `std` |
 //!
 //! One of `std` and `libm` must be enabled.
 //!

@@ -497,3 +497,25 @@ proptest! {
         }
     }
 }
+
+/// The parallel build makes the same tree: the faces in the same order, the same bytes,
+/// the same hits; and so does `Bvh::new_parallel`, on a scene large enough (80k faces) to
+/// split in parallel.
+#[cfg(feature = "rayon")]
+#[test]
+fn the_parallel_build_makes_the_same_tree() {
+    let (unit, faces) = icosphere(6);
+    let serial = TriangleMesh::new(&unit, &faces).unwrap();
+    let parallel = TriangleMesh::new_parallel(&unit, &faces).unwrap();
+    let order = |m: &TriangleMesh| m.faces().map(|f| f.index()).collect::<Vec<_>>();
+    assert_eq!(order(&serial), order(&parallel));
+    assert_eq!(serial.heap_bytes(), parallel.heap_bytes());
+    let mut rng = SplitMix::new(37);
+    for _ in 0..2000 {
+        let ray = Ray::new(0.5 * rng.vec3(), rng.direction());
+        assert_eq!(serial.hit(&ray, FORWARD), parallel.hit(&ray, FORWARD));
+    }
+    let triangles: Vec<_> = serial.faces().collect();
+    let (a, b) = (Bvh::new(triangles.clone()), Bvh::new_parallel(triangles));
+    assert!((0..a.len()).all(|i| a.original_index(i) == b.original_index(i)));
+}
