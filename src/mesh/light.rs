@@ -28,7 +28,8 @@ impl PdfHittable for TriangleMesh {
     /// The sum, over every face the ray from `origin` along `direction` crosses (at `t >=
     /// 0`, not only the nearest: sampling picks points whether or not they are in view),
     /// of `distance^2 / (|cos| area)`. 0 where nothing is crossed and wherever the sum is
-    /// not a finite number.
+    /// not a finite number. A direction through an edge that two faces share counts both
+    /// (such directions have measure zero: no estimate changes).
     fn pdf_value(&self, origin: DVec3, direction: DVec3) -> f64 {
         let ray = Ray::new(origin, direction);
         let (Some(sheared), area) = (Sheared::new(&ray), self.area()) else {
