@@ -19,6 +19,9 @@ pub struct CameraSettings {
     pub defocus_angle: f64,
     /// Distance to the plane in perfect focus.
     pub focus_dist: f64,
+    /// Whether the shutter is open from time 0 to 1 (each ray at a random time: motion
+    /// blur) rather than an instant at time 0; only scenes with moving objects need it.
+    pub shutter: bool,
 }
 
 /// The camera, set up once per render.
@@ -30,6 +33,7 @@ pub struct Camera {
     dv: DVec3,
     defocus_u: DVec3,
     defocus_v: DVec3,
+    shutter: bool,
 }
 
 impl Camera {
@@ -52,6 +56,7 @@ impl Camera {
             dv,
             defocus_u: radius * u,
             defocus_v: radius * v,
+            shutter: s.shutter,
         }
     }
 
@@ -67,7 +72,14 @@ impl Camera {
         } else {
             self.center
         };
-        Ray::new(origin, target - origin)
+        let ray = Ray::new(origin, target - origin);
+        // Drawn only with the shutter open, so that still scenes use the same random
+        // numbers (and make the same images) as before motion existed.
+        if self.shutter {
+            ray.at_time(rng.random())
+        } else {
+            ray
+        }
     }
 }
 

@@ -107,14 +107,29 @@ pub fn run<W: Hittable>(
     defaults: Options,
     scene: impl FnOnce(&Options) -> Scene<W>,
 ) -> ExitCode {
-    let options = match defaults.clone().parse(std::env::args().skip(1)) {
+    run_with(example, defaults, std::env::args().skip(1), "", |o| {
+        Ok(scene(o))
+    })
+}
+
+/// [`run`] on the arguments `args`, with `extra` lines of usage (for options the example
+/// parsed itself) and a scene that may fail to build (an error naming why).
+pub fn run_with<W: Hittable>(
+    example: &str,
+    defaults: Options,
+    args: impl IntoIterator<Item = String>,
+    extra: &str,
+    scene: impl FnOnce(&Options) -> Result<Scene<W>, String>,
+) -> ExitCode {
+    let usage = format!("{}{extra}", defaults.usage(example));
+    let options = match defaults.clone().parse(args) {
         Ok(Some(options)) => options,
         Ok(None) => {
-            println!("{}", defaults.usage(example));
+            println!("{usage}");
             return ExitCode::SUCCESS;
         }
         Err(message) => {
-            eprintln!("error: {message}\n\n{}", defaults.usage(example));
+            eprintln!("error: {message}\n\n{usage}");
             return ExitCode::from(2);
         }
     };
@@ -123,7 +138,13 @@ pub fn run<W: Hittable>(
         eprintln!("error: {message}");
         return ExitCode::from(2);
     }
-    let scene = scene(&options);
+    let scene = match scene(&options) {
+        Ok(scene) => scene,
+        Err(message) => {
+            eprintln!("error: {message}");
+            return ExitCode::from(2);
+        }
+    };
     let settings = Settings {
         samples: options.samples,
         max_depth: options.depth,

@@ -208,7 +208,15 @@ fn radiance<W: Hittable, const BG: bool, const EMIT: bool, const LIGHTS: bool>(
             }
             Scatter::Diffuse(albedo) => {
                 throughput *= albedo;
-                cosine_direction(hit.normal, rng)
+                // Around the shading normal (a mesh's interpolated one); where that tilts
+                // the lobe below the surface, the direction is mirrored back above it.
+                let d = cosine_direction(hit.shading_normal, rng);
+                let below = d.dot(hit.normal);
+                if below < 0.0 {
+                    d - 2.0 * below * hit.normal
+                } else {
+                    d
+                }
             }
         };
         ray = hit.spawn_ray(direction);

@@ -46,6 +46,7 @@ pub fn quads_scene(width: usize) -> Scene<Vec<Quad>> {
             vup: DVec3::Y,
             defocus_angle: 0.0,
             focus_dist: 10.0,
+            shutter: false,
         },
     }
 }
@@ -115,6 +116,7 @@ pub fn shapes_scene(width: usize) -> Scene<Vec<Box<dyn hitkit::Hittable>>> {
             vup: DVec3::Y,
             defocus_angle: 0.0,
             focus_dist: 8.0,
+            shutter: false,
         },
     }
 }
@@ -211,6 +213,7 @@ fn cornell_camera(width: usize) -> CameraSettings {
         vup: DVec3::Y,
         defocus_angle: 0.0,
         focus_dist: 10.0,
+        shutter: false,
     }
 }
 
@@ -261,5 +264,226 @@ pub fn cornell_book_scene(width: usize) -> Scene<Vec<Box<dyn hitkit::Hittable>>>
         lights,
         background: Background::Solid(Color::ZERO),
         camera: cornell_camera(width),
+    }
+}
+
+/// A torus around the y axis (ring radius `big`, tube radius `small`), `around` by
+/// `along` quads of two triangles sharing their vertices (the seams close: the last row
+/// and column reuse the first), with its exact normals and `(around, along)` texture
+/// coordinates per vertex: a closed, smooth mesh with no file needed.
+pub fn torus(big: f64, small: f64, around: u32, along: u32) -> hitkit::TriangleMesh {
+    use std::f64::consts::TAU;
+    let (mut vertices, mut normals, mut uvs) = (Vec::new(), Vec::new(), Vec::new());
+    for i in 0..around {
+        let (s, c) = (TAU * f64::from(i) / f64::from(around)).sin_cos();
+        for j in 0..along {
+            let (sv, cv) = (TAU * f64::from(j) / f64::from(along)).sin_cos();
+            let normal = DVec3::new(c * cv, sv, s * cv);
+            vertices.push(DVec3::new(big * c, 0.0, big * s) + small * normal);
+            normals.push(normal);
+            uvs.push(hitkit::glam::DVec2::new(
+                f64::from(i) / f64::from(around),
+                f64::from(j) / f64::from(along),
+            ));
+        }
+    }
+    let at = |i: u32, j: u32| (i % around) * along + (j % along);
+    let faces: Vec<[u32; 3]> = (0..around)
+        .flat_map(|i| {
+            (0..along).flat_map(move |j| {
+                [
+                    [at(i, j), at(i, j + 1), at(i + 1, j)],
+                    [at(i + 1, j), at(i, j + 1), at(i + 1, j + 1)],
+                ]
+            })
+        })
+        .collect();
+    hitkit::TriangleMesh::new(&vertices, &faces)
+        .and_then(|m| m.with_normals(&normals))
+        .and_then(|m| m.with_uvs(&uvs))
+        .expect("the torus is a valid mesh")
+}
+
+/// The triangles of the OBJ file at `path` (every model, triangulated), with the file's
+/// vertex normals where it has one for every vertex, centred at the origin and scaled to
+/// a largest extent of 2.
+pub fn load_obj(path: &std::path::Path) -> Result<hitkit::TriangleMesh, String> {
+    let options = tobj::LoadOptions {
+        triangulate: true,
+        single_index: true,
+        ..Default::default()
+    };
+    let (models, _) = tobj::load_obj(path, &options)
+        .map_err(|e| format!("cannot read {}: {e}", path.display()))?;
+    let (mut vertices, mut normals, mut faces) = (Vec::new(), Vec::new(), Vec::new());
+    let mut all_normals = true;
+    for model in models {
+        let m = model.mesh;
+        let base = vertices.len() as u32;
+        let triple = |v: &[f64]| -> Vec<DVec3> {
+            v.chunks_exact(3)
+                .map(|p| DVec3::new(p[0], p[1], p[2]))
+                .collect()
+        };
+        let positions = triple(&m.positions);
+        all_normals &= m.normals.len() == m.positions.len();
+        normals.extend(triple(&m.normals));
+        vertices.extend(positions);
+        faces.extend(
+            m.indices
+                .chunks_exact(3)
+                .map(|f| [f[0] + base, f[1] + base, f[2] + base]),
+        );
+    }
+    if faces.is_empty() {
+        return Err(format!("{} has no triangles", path.display()));
+    }
+    let (lo, hi) = vertices
+        .iter()
+        .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), &p| {
+            (lo.min(p), hi.max(p))
+        });
+    let (centre, scale) = (0.5 * (lo + hi), 2.0 / (hi - lo).max_element());
+    let placed: Vec<DVec3> = vertices.iter().map(|&p| scale * (p - centre)).collect();
+    let mesh = hitkit::TriangleMesh::new(&placed, &faces)
+        .map_err(|e| format!("{}: {e}", path.display()))?;
+    if all_normals {
+        mesh.with_normals(&normals)
+            .map_err(|e| format!("{}: {e}", path.display()))
+    } else {
+        Ok(mesh)
+    }
+}
+
+/// Sets each hit's material from the instance it came through: `first + instance % count`.
+/// How a renderer gives instances of one shared mesh their own materials, through
+/// `HitRecord::instance`.
+pub struct ByInstance<T> {
+    pub inner: T,
+    pub first: u32,
+    pub count: u32,
+}
+
+impl<T: hitkit::Hittable> hitkit::Hittable for ByInstance<T> {
+    fn hit(&self, ray: &hitkit::Ray, ray_t: hitkit::Interval) -> Option<hitkit::HitRecord> {
+        let hit = self.inner.hit(ray, ray_t)?;
+        let id = hit.instance.map_or(0, |i| i % self.count);
+        Some(hit.with_material(MaterialId(self.first + id)))
+    }
+
+    fn bounding_box(&self) -> hitkit::Aabb {
+        self.inner.bounding_box()
+    }
+
+    fn occluded(&self, ray: &hitkit::Ray, ray_t: hitkit::Interval) -> bool {
+        self.inner.occluded(ray, ray_t)
+    }
+}
+
+/// A mesh (a generated torus, or `mesh` from a file) instanced 120 times over a ground
+/// quad under the sky, each instance turned its own way and coloured by its instance id;
+/// a few of them in motion (rising over the shutter interval: motion blur), and three
+/// moving balls, as the book's bouncing spheres.
+pub fn mesh_scene(
+    width: usize,
+    mesh: Option<hitkit::TriangleMesh>,
+) -> Scene<Vec<Box<dyn hitkit::Hittable>>> {
+    use std::sync::Arc;
+
+    use hitkit::glam::DQuat;
+    use hitkit::{Bvh, Hittable, Moving, Sphere, Transformed};
+
+    let mesh = Arc::new(mesh.unwrap_or_else(|| torus(1.0, 0.35, 96, 48)));
+    let mut materials = vec![
+        Material::Lambertian(Color::new(0.5, 0.5, 0.5)), // ground
+        Material::Metal(Color::new(0.8, 0.8, 0.9), 0.05),
+        Material::Dielectric(1.5),
+    ];
+    let palette = [
+        Color::new(0.8, 0.3, 0.3),
+        Color::new(0.3, 0.7, 0.4),
+        Color::new(0.3, 0.4, 0.8),
+        Color::new(0.9, 0.7, 0.2),
+        Color::new(0.7, 0.4, 0.8),
+        Color::new(0.2, 0.7, 0.8),
+    ];
+    let first = materials.len() as u32;
+    materials.extend(palette.iter().map(|&c| Material::Lambertian(c)));
+
+    // A fixed stream (SplitMix64), so the scene is the same on every run.
+    let mut state = 0x6d65_7368_u64;
+    let mut next = move || {
+        state = state.wrapping_add(0x9e37_79b9_7f4a_7c15);
+        let mut z = state;
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let mut instances: Vec<Box<dyn Hittable>> = Vec::new();
+    for id in 0..120u32 {
+        let (row, column) = (f64::from(id / 12), f64::from(id % 12));
+        let at = DVec3::new(
+            3.0 * (column - 5.5) + next() - 0.5,
+            1.0,
+            -3.0 * row + next() - 0.5,
+        );
+        let turn = DQuat::from_euler(
+            hitkit::glam::EulerRot::YXZ,
+            std::f64::consts::TAU * next(),
+            0.6 * (next() - 0.5),
+            0.6 * (next() - 0.5),
+        );
+        let instance = Transformed::new(mesh.clone(), turn, at)
+            .expect("a finite motion")
+            .with_instance_id(id);
+        if id % 17 == 5 {
+            instances.push(Box::new(
+                Moving::new(instance, DVec3::new(0.0, 0.6, 0.0)).expect("a finite motion"),
+            ));
+        } else {
+            instances.push(Box::new(instance));
+        }
+    }
+    let mut world: Vec<Box<dyn Hittable>> = vec![
+        Box::new(
+            Quad::new(
+                DVec3::new(-100.0, 0.0, 60.0),
+                DVec3::new(200.0, 0.0, 0.0),
+                DVec3::new(0.0, 0.0, -200.0),
+            )
+            .expect("a valid ground")
+            .with_material(MaterialId(0)),
+        ),
+        Box::new(ByInstance {
+            inner: Bvh::new(instances),
+            first,
+            count: palette.len() as u32,
+        }),
+    ];
+    for (k, x) in [-4.0, 0.0, 4.0].into_iter().enumerate() {
+        let ball = Sphere::new(DVec3::new(x, 0.8, 3.5), 0.8)
+            .expect("a valid ball")
+            .with_material(MaterialId(1 + (k as u32 % 2)));
+        world.push(Box::new(
+            Moving::new(ball, DVec3::new(0.0, 0.4 * (k as f64 + 1.0), 0.0))
+                .expect("a finite motion"),
+        ));
+    }
+    Scene {
+        world,
+        materials,
+        lights: Vec::new(),
+        background: Background::Sky,
+        camera: CameraSettings {
+            width,
+            height: width * 9 / 16,
+            vfov: 35.0,
+            lookfrom: DVec3::new(0.0, 9.0, 16.0),
+            lookat: DVec3::new(0.0, 0.5, -8.0),
+            vup: DVec3::Y,
+            defocus_angle: 0.0,
+            focus_dist: 10.0,
+            shutter: true,
+        },
     }
 }
