@@ -8,10 +8,8 @@
 use std::hint::black_box;
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
-use std::sync::Arc;
-
-use hitkit::glam::{DQuat, DVec3};
-use hitkit::{Bvh, Hittable, Interval, Quad, Ray, Transformed, Triangle, TriangleMesh};
+use hitkit::glam::DVec3;
+use hitkit::{Bvh, Hittable, Interval, Quad, Ray, Triangle, TriangleMesh};
 
 #[path = "../tests/support/scene.rs"]
 #[allow(dead_code)]
@@ -87,18 +85,8 @@ fn closest_hit(c: &mut Criterion) {
 /// bytes each holds.
 fn instancing(c: &mut Criterion) {
     let mut rng = scene::SplitMix::new(SEED);
-    let (unit, faces) = scene::icosphere(3);
-    let shared = Arc::new(TriangleMesh::new(&unit, &faces).unwrap());
-    let (mut vertices, mut flat_faces, mut instances) = (Vec::new(), Vec::new(), Vec::new());
-    for id in 0..1000u32 {
-        let rot = DQuat::from_axis_angle(rng.direction(), std::f64::consts::TAU * rng.next_f64());
-        let at = 60.0 * rng.vec3();
-        let instance = Transformed::new(shared.clone(), rot, at).unwrap();
-        let base = vertices.len() as u32;
-        vertices.extend(unit.iter().map(|&p| instance.rotation() * p + at));
-        flat_faces.extend(faces.iter().map(|f| f.map(|i| i + base)));
-        instances.push(instance.with_instance_id(id));
-    }
+    let (instances, vertices, flat_faces) = scene::instances(3, 1000, 0.0, 60.0, &mut rng);
+    let shared = instances[0].object().clone();
     let instanced = Bvh::new(instances);
     let flat = TriangleMesh::new(&vertices, &flat_faces).unwrap();
     eprintln!(

@@ -369,19 +369,7 @@ fn closed_triangle_meshes_with_shared_vertices_never_leak() {
         for k in 0..600 {
             let [a, b, c] = faces[(rng.next_u64() % faces.len() as u64) as usize];
             let (a, b, c) = (vertices[a], vertices[b], vertices[c]);
-            let target = match k % 3 {
-                0 => a,
-                1 => a + rng.next_f64() * (b - a),
-                _ => {
-                    let (x, y) = (rng.next_f64(), rng.next_f64());
-                    let (x, y) = if x + y > 1.0 {
-                        (1.0 - x, 1.0 - y)
-                    } else {
-                        (x, y)
-                    };
-                    a + x * (b - a) + y * (c - a)
-                }
-            };
+            let target = support::face_point(&mut rng, [a, b, c], k);
             let inside = centre + 0.3 * size * rng.vec3();
             let ray = Ray::new(inside, target - inside);
             rays += 1;

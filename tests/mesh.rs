@@ -12,7 +12,7 @@ use hitkit::{
 };
 use proptest::prelude::*;
 use support::distance::{planar_bound, to_polygon};
-use support::{SplitMix, icosphere, placements, rotation};
+use support::{SplitMix, face_point, icosphere, instances, placements, rotation};
 
 const FORWARD: Interval = Interval::FORWARD;
 
@@ -43,23 +43,6 @@ fn loop_over_faces(mesh: &TriangleMesh, ray: &Ray, ray_t: Interval) -> Option<Hi
     best
 }
 
-/// A point of the face `[a, b, c]`: a corner, a point of an edge, or inside, by `kind`.
-fn target(rng: &mut SplitMix, [a, b, c]: [DVec3; 3], kind: usize) -> DVec3 {
-    match kind % 3 {
-        0 => a,
-        1 => a + rng.next_f64() * (b - a),
-        _ => {
-            let (x, y) = (rng.next_f64(), rng.next_f64());
-            let (x, y) = if x + y > 1.0 {
-                (1.0 - x, 1.0 - y)
-            } else {
-                (x, y)
-            };
-            a + x * (b - a) + y * (c - a)
-        }
-    }
-}
-
 fn corners(vertices: &[DVec3], face: [u32; 3]) -> [DVec3; 3] {
     face.map(|i| vertices[i as usize])
 }
@@ -85,7 +68,7 @@ fn mesh_hits_equal_the_loop_over_its_faces_and_lie_on_them() {
         let (vertices, faces, mesh) = sphere_mesh(centre, size, rotation(&mut rng), 2);
         for k in 0..200 {
             let face = faces[(rng.next_u64() % faces.len() as u64) as usize];
-            let aim = target(&mut rng, corners(&vertices, face), k);
+            let aim = face_point(&mut rng, corners(&vertices, face), k);
             let ray = match k % 5 {
                 0 | 1 => Ray::new(centre + 0.3 * size * rng.vec3(), aim - centre),
                 2 => {
@@ -211,7 +194,7 @@ fn closed_meshes_with_shared_vertices_never_leak() {
         ]);
         for k in 0..600 {
             let face = faces[(rng.next_u64() % faces.len() as u64) as usize];
-            let aim = target(&mut rng, corners(&vertices, face), k);
+            let aim = face_point(&mut rng, corners(&vertices, face), k);
             let inside = centre + 0.3 * size * rng.vec3();
             let out = Ray::new(inside, aim - inside);
             let outside = centre + (aim - centre) * (1.0 + 10f64.powi((k % 7) as i32));
@@ -241,21 +224,9 @@ fn closed_meshes_with_shared_vertices_never_leak() {
 #[test]
 fn instances_hit_the_faces_of_the_flattened_mesh() {
     let mut rng = SplitMix::new(33);
-    let (unit, faces) = icosphere(1);
-    let shared = Arc::new(TriangleMesh::new(&unit, &faces).unwrap());
-    let mut instances = Vec::new();
-    let (mut vertices, mut flat_faces) = (Vec::new(), Vec::new());
-    for id in 0..1000u32 {
-        let rot = DQuat::from_axis_angle(rng.direction(), std::f64::consts::TAU * rng.next_f64());
-        let at = 1e3 + 60.0 * rng.vec3();
-        let instance = Transformed::new(shared.clone(), rot, at).unwrap();
-        let base = vertices.len() as u32;
-        // As `Transformed` moves points: its (normalized) rotation, then the translation.
-        vertices.extend(unit.iter().map(|&p| instance.rotation() * p + at));
-        flat_faces.extend(faces.iter().map(|f| f.map(|i| i + base)));
-        instances.push(instance.with_instance_id(id));
-    }
-    let scene = Bvh::new(instances);
+    let (moved, vertices, flat_faces) = instances(1, 1000, 1e3, 60.0, &mut rng);
+    let faces = icosphere(1).1;
+    let scene = Bvh::new(moved);
     let flat = TriangleMesh::new(&vertices, &flat_faces).unwrap();
     let per = faces.len() as u32;
     let mut matched = 0;

@@ -180,3 +180,54 @@ pub fn icosphere(levels: u32) -> (Vec<DVec3>, Vec<[u32; 3]>) {
     }
     (unit, faces)
 }
+
+/// An instance of a shared mesh, as the instancing test and bench build them.
+pub type Instance = hitkit::Transformed<std::sync::Arc<hitkit::TriangleMesh>>;
+
+/// `count` instances of the icosphere of `levels` (ids 0 to `count - 1`), each turned at
+/// random and moved to `corner + spread * [0, 1)^3`; and the same triangles moved one by
+/// one as `Transformed` moves points (its rotation, then the translation) and flattened
+/// into one list of vertices and faces, face `f` of instance `i` at `i * faces + f`. What
+/// the instancing test and bench compare.
+#[allow(dead_code)] // not every includer traces instances
+pub fn instances(
+    levels: u32,
+    count: u32,
+    corner: f64,
+    spread: f64,
+    rng: &mut SplitMix,
+) -> (Vec<Instance>, Vec<DVec3>, Vec<[u32; 3]>) {
+    use hitkit::glam::DQuat;
+    let (unit, faces) = icosphere(levels);
+    let shared = std::sync::Arc::new(hitkit::TriangleMesh::new(&unit, &faces).unwrap());
+    let (mut instances, mut vertices, mut flat) = (Vec::new(), Vec::new(), Vec::new());
+    for id in 0..count {
+        let rot = DQuat::from_axis_angle(rng.direction(), core::f64::consts::TAU * rng.next_f64());
+        let at = corner + spread * rng.vec3();
+        let instance = hitkit::Transformed::new(shared.clone(), rot, at).unwrap();
+        let base = vertices.len() as u32;
+        vertices.extend(unit.iter().map(|&p| instance.rotation() * p + at));
+        flat.extend(faces.iter().map(|f| f.map(|i| i + base)));
+        instances.push(instance.with_instance_id(id));
+    }
+    (instances, vertices, flat)
+}
+
+/// A point of the triangle `[a, b, c]` by `kind % 3`: the corner `a`, a random point of
+/// the edge from `a` to `b`, or a random point inside.
+#[allow(dead_code)] // not every includer aims at faces
+pub fn face_point(rng: &mut SplitMix, [a, b, c]: [DVec3; 3], kind: usize) -> DVec3 {
+    match kind % 3 {
+        0 => a,
+        1 => a + rng.next_f64() * (b - a),
+        _ => {
+            let (x, y) = (rng.next_f64(), rng.next_f64());
+            let (x, y) = if x + y > 1.0 {
+                (1.0 - x, 1.0 - y)
+            } else {
+                (x, y)
+            };
+            a + x * (b - a) + y * (c - a)
+        }
+    }
+}
