@@ -13,7 +13,8 @@ use crate::{Aabb, GeometryError, HitRecord, Hittable, Interval, Ray};
 /// sphere, mesh instance or whole `Bvh` works alike; the box covers the whole motion.
 ///
 /// Static objects pay nothing for motion elsewhere in a scene: only `Moving` reads a ray's
-/// time.
+/// time. A `Moving` is not a [`PdfHittable`](crate::PdfHittable): sampling a light takes no
+/// ray, so no time to say where a moving light is.
 ///
 /// ```
 /// use hitkit::glam::DVec3;

@@ -17,9 +17,9 @@ pub struct MaterialId(pub u32);
 /// `normal` is unit length and faces against the ray; `front_face` says whether the ray
 /// came from the side the shape's outward normal points to.
 ///
-/// Which part of which object was hit, through any nesting: `primitive` is set by shapes
-/// made of many parts (a [`TriangleMesh`](crate::TriangleMesh)'s face, in the caller's
-/// numbering), and `instance` by a [`Transformed`](crate::Transformed) given an id with
+/// Which part of which object was hit, through any nesting: `primitive` is set by a
+/// [`TriangleMesh`](crate::TriangleMesh) (its face, in the caller's numbering; other
+/// shapes leave it `None`), and `instance` by a [`Transformed`](crate::Transformed) given an id with
 /// [`with_instance_id`](crate::Transformed::with_instance_id); a `Bvh`, `Box`, `Arc` or
 /// list passes both on unchanged. Fields of the record (not a generic query) keep
 /// [`Hittable`](crate::Hittable) object safe, and cost nothing to pass along.
@@ -46,7 +46,7 @@ pub struct HitRecord {
     /// The material of the shape that was hit.
     pub material: MaterialId,
     /// The part of the shape that was hit: a [`TriangleMesh`](crate::TriangleMesh)'s face
-    /// index; `None` for shapes of one part.
+    /// index; `None` for other shapes.
     pub primitive: Option<u32>,
     /// The id of the outermost [`Transformed`](crate::Transformed) instance with one that
     /// the hit came through; `None` if none.
