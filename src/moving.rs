@@ -104,11 +104,7 @@ impl<T: Hittable> Hittable for Moving<T> {
     #[inline]
     fn hit(&self, ray: &Ray, ray_t: Interval) -> Option<HitRecord> {
         let offset = self.offset_at(ray.time);
-        let local = Ray {
-            origin: ray.origin - offset,
-            ..*ray
-        };
-        let mut hit = self.object.hit(&local, ray_t)?;
+        let mut hit = self.object.hit(&back_by(ray, offset), ray_t)?;
         // The object stands at exactly `object + offset`; the point moves there with one
         // rounding.
         let point = hit.point + offset;
@@ -128,10 +124,16 @@ impl<T: Hittable> Hittable for Moving<T> {
 
     #[inline]
     fn occluded(&self, ray: &Ray, ray_t: Interval) -> bool {
-        let local = Ray {
-            origin: ray.origin - self.offset_at(ray.time),
-            ..*ray
-        };
-        self.object.occluded(&local, ray_t)
+        self.object
+            .occluded(&back_by(ray, self.offset_at(ray.time)), ray_t)
+    }
+}
+
+/// `ray` moved back by `offset`: the ray as the object, at rest at time 0, sees it.
+#[inline]
+fn back_by(ray: &Ray, offset: DVec3) -> Ray {
+    Ray {
+        origin: ray.origin - offset,
+        ..*ray
     }
 }

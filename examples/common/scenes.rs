@@ -410,15 +410,12 @@ pub fn mesh_scene(
     let first = materials.len() as u32;
     materials.extend(palette.iter().map(|&c| Material::Lambertian(c)));
 
-    // A fixed stream (SplitMix64), so the scene is the same on every run.
-    let mut state = 0x6d65_7368_u64;
-    let mut next = move || {
-        state = state.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = state;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
+    // A fixed seed, so the scene is the same on every run (the renderer's generator).
+    let mut rng = {
+        use rand::SeedableRng;
+        rand::rngs::SmallRng::seed_from_u64(0x6d65_7368)
     };
+    let mut next = move || rand::RngExt::random::<f64>(&mut rng);
     let mut instances: Vec<Box<dyn Hittable>> = Vec::new();
     for id in 0..120u32 {
         let (row, column) = (f64::from(id / 12), f64::from(id % 12));
