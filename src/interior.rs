@@ -182,8 +182,8 @@ fn meets_polygon(region: &CrossingRegion, rows: &[([f64; 2], f64, f64)]) -> Meet
     let mut inside = true;
     for &([ka, kb], lo, hi) in rows {
         let c = ka * region.center.x + kb * region.center.y;
-        let widen = ka.abs() * r.x + kb.abs() * r.y;
-        let extent = ka.abs() * half.x + kb.abs() * half.y + widen;
+        let widen = weigh(ka, kb, r);
+        let extent = weigh(ka, kb, half) + widen;
         if c + extent < lo || c - extent > hi {
             return Meets::Outside;
         }
@@ -194,7 +194,7 @@ fn meets_polygon(region: &CrossingRegion, rows: &[([f64; 2], f64, f64)]) -> Meet
     }
     let mut span = (-region.reach, region.reach);
     for &([ka, kb], lo, hi) in rows {
-        let widen = ka.abs() * r.x + kb.abs() * r.y;
+        let widen = weigh(ka, kb, r);
         let c = ka * region.center.x + kb * region.center.y;
         let w = ka * region.along.x + kb * region.along.y;
         narrow(&mut span, c, w, lo - widen, hi + widen);
@@ -203,6 +203,15 @@ fn meets_polygon(region: &CrossingRegion, rows: &[([f64; 2], f64, f64)]) -> Meet
         None => Meets::Outside,
         Some(s) => Meets::Near(s),
     }
+}
+
+/// `|ka| x.x + |kb| x.y`, where a zero `k` weighs nothing even against an infinite width
+/// (a region whose reach has no bound): `0 * inf` would make it NaN, and NaN bounds would
+/// turn such a region away instead of leaving it undecided.
+#[inline(always)]
+fn weigh(ka: f64, kb: f64, x: DVec2) -> f64 {
+    let term = |k: f64, x: f64| if k == 0.0 { 0.0 } else { k.abs() * x };
+    term(ka, x.x) + term(kb, x.y)
 }
 
 /// The parallelogram `0 <= alpha <= 1, 0 <= beta <= 1` with corners `q`, `q + u`,
@@ -421,6 +430,13 @@ fn meets_annulus(region: &CrossingRegion, inner: f64) -> Meets {
     let near_ok = inner == 0.0 || f(s_min) * (1.0 - gamma(4)) >= (inner + slack) * (inner + slack);
     if strict > 0.0 && far_ok && near_ok {
         return Meets::Inside;
+    }
+    // The computed crossing itself, where it is near enough: as for the polygons, the
+    // point nearest to it (a grazing ray's segment is long, and its point nearest the
+    // centre can be far along the ray from where the ray meets the plane).
+    let at_center = f(0.0);
+    if inner2 <= at_center && at_center <= outer2 {
+        return Meets::Near(0.0);
     }
     if f(s_min) >= inner2 {
         return Meets::Near(s_min);

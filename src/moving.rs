@@ -111,7 +111,8 @@ impl<T: Hittable> Hittable for Moving<T> {
         hit.point_error += gamma(1) * point.abs();
         hit.point = point;
         // As for `Transformed`: the rounding of moving the ray may take t past the box.
-        hit.t = self.bbox.clamp_hit(ray, ray_t, hit.t)?;
+        let span = self.bbox.ray_span(ray, ray_t)?;
+        hit.t = hit.t.clamp(span.min, span.max.max(span.min));
         (hit.point.is_finite() && hit.point_error.is_finite()).then_some(hit)
     }
 
@@ -124,8 +125,11 @@ impl<T: Hittable> Hittable for Moving<T> {
 
     #[inline]
     fn occluded(&self, ray: &Ray, ray_t: Interval) -> bool {
-        self.object
-            .occluded(&back_by(ray, self.offset_at(ray.time)), ray_t)
+        // The box test `hit` makes too (see `Transformed`).
+        self.bbox.hit(ray, ray_t)
+            && self
+                .object
+                .occluded(&back_by(ray, self.offset_at(ray.time)), ray_t)
     }
 }
 

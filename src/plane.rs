@@ -118,7 +118,8 @@ struct Parts {
 pub struct CrossingRegion {
     /// The computed crossing.
     pub center: DVec2,
-    /// The change of `(alpha, beta)` per unit of `t` along the ray.
+    /// The change of `(alpha, beta)` per unit of `t` along the ray; infinite where it is
+    /// beyond f64's range.
     pub along: DVec2,
     /// How far along the ray, in units of `t`, the exact crossing can be; may be infinite.
     pub reach: f64,
@@ -472,10 +473,14 @@ impl Plane {
             slack: c - (gamma(3) + self.frame_error) * d1,
             c,
             d1,
+            // A product past f64's range sums to `inf - inf`: the change is too large to
+            // represent, and reported as infinite (the segment is symmetric, so its sign
+            // does not matter), never as NaN.
             along: DVec2::new(
                 ray.direction.dot(self.to_alpha),
                 ray.direction.dot(self.to_beta),
-            ),
+            )
+            .map(|x| if x.is_nan() { f64::INFINITY } else { x }),
         }
     }
 

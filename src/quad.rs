@@ -3,7 +3,7 @@
 
 use glam::{DVec2, DVec3};
 
-use crate::light::{Spherical, View};
+use crate::light::{Spherical, View, reaching, toward_middle};
 use crate::math::{gamma, unit_and_length};
 use crate::plane::Crossing;
 use crate::{
@@ -123,14 +123,27 @@ impl<S: Interior> Quad<S> {
     /// The record of the decided crossing `hit`. A `t` that rounding put before or past the
     /// box moves onto it, so that a `Bvh` (whose boxes contain this one) finds every hit a
     /// loop over the shapes finds; only then is it compared with `ray_t`.
+    ///
+    /// The point, too, stays in the box: a crossing decided near an edge may lie beside the
+    /// shape by as much as the region's width, which for a grazing ray on a plane of
+    /// extreme edges can pass the box's margin. It moves onto the box (toward the shape,
+    /// which the box holds), and its error bound grows by the move, so that the point on
+    /// the plane it was computed as still lies within it.
     #[inline(always)]
     fn record(&self, ray: &Ray, ray_t: Interval, mut hit: PlaneHit) -> Option<HitRecord> {
         hit.t = self.bbox.clamp_hit(ray, Interval::UNIVERSE, hit.t)?;
         if !ray_t.contains(hit.t) {
             return None;
         }
-        self.plane
-            .hit_record(ray, hit, self.shape.uv(hit.alpha, hit.beta))
+        let mut record = self
+            .plane
+            .hit_record(ray, hit, self.shape.uv(hit.alpha, hit.beta))?;
+        let inside = record.point.clamp(self.bbox.min(), self.bbox.max());
+        if inside != record.point {
+            record.point_error += (inside - record.point).abs();
+            record.point = inside;
+        }
+        record.point_error.is_finite().then_some(record)
     }
 }
 
@@ -256,10 +269,8 @@ impl<S: SampleInterior> PdfHittable for Quad<S> {
     /// wherever that is not a finite number: an origin in the plane, a grazing direction
     /// whose density overflows, an invalid ray.
     fn pdf_value(&self, origin: DVec3, direction: DVec3) -> f64 {
-        let ray = Ray::new(origin, direction);
-        let hit = match self.plane().intersect(&ray, Interval::FORWARD) {
-            Some(hit) if self.shape().contains(hit.alpha, hit.beta) => hit,
-            _ => return 0.0,
+        let Some(hit) = self.reached(origin, direction) else {
+            return 0.0;
         };
         if let Some(view) = self.spherical(origin) {
             return 1.0 / view.solid_angle();
@@ -276,29 +287,48 @@ impl<S: SampleInterior> PdfHittable for Quad<S> {
     /// `p - origin` (not normalized) for the point `p = q + alpha u + beta v` at
     /// [`SampleInterior::sample`]`(u)`; `u` is first clamped into `[0, 1]^2` (NaN to 0).
     ///
-    /// A point exactly on the shape's edge (`u.x` or `u.y` exactly 0 for a parallelogram,
-    /// say, as the first point of a Sobol sequence is) may, after rounding, aim just past
-    /// it: [`pdf_value`](PdfHittable::pdf_value) is then 0 for that direction, and a renderer
-    /// should count the sample as failed rather than divide by it.
+    /// A point on the shape's edge (`u.x` or `u.y` exactly 0 for a parallelogram, as the
+    /// first point of a Sobol sequence is) may, after rounding, aim just past it; such a
+    /// direction is drawn again from `u` moved a little toward the middle of the square, so
+    /// that [`pdf_value`](PdfHittable::pdf_value) is positive for every direction returned
+    /// (the contract's clause 6) wherever the shape can be aimed at from `origin` at all.
     fn sample_direction(&self, origin: DVec3, u: DVec2) -> DVec3 {
         if !origin.is_finite() {
             return DVec3::ZERO; // no direction from nowhere; it hits nothing
         }
         let u = u.clamp(DVec2::ZERO, DVec2::ONE);
-        if let Some(view) = self.spherical(origin) {
-            return view.sample(self.plane(), origin, u);
-        }
-        let at = self.shape().sample(u);
+        let view = self.spherical(origin);
         let plane = self.plane();
-        let toward =
-            |k: f64| (k * plane.q() - k * origin) + (k * at.x * plane.u() + k * at.y * plane.v());
-        let direction = toward(1.0);
-        // Where the difference overflows, a quarter of every term does not (four terms of at
-        // most f64::MAX / 4), and points the same way.
-        if direction.is_finite() {
-            direction
-        } else {
-            toward(0.25)
-        }
+        let sample = |k: f64| {
+            let u = toward_middle(u, k);
+            if let Some(view) = &view {
+                return view.sample(plane, origin, u);
+            }
+            let at = self.shape().sample(u);
+            let toward = |k: f64| {
+                (k * plane.q() - k * origin) + (k * at.x * plane.u() + k * at.y * plane.v())
+            };
+            let direction = toward(1.0);
+            // Where the difference overflows, a quarter of every term does not (four terms
+            // of at most f64::MAX / 4), and points the same way.
+            if direction.is_finite() {
+                direction
+            } else {
+                toward(0.25)
+            }
+        };
+        reaching(sample, |d| self.reached(origin, d).is_some())
+    }
+}
+
+impl<S: SampleInterior> Quad<S> {
+    /// Where the ray from `origin` along `direction` meets the shape at `t >= 0`, by the
+    /// computed crossing: the test [`PdfHittable::pdf_value`] goes by.
+    #[inline]
+    fn reached(&self, origin: DVec3, direction: DVec3) -> Option<PlaneHit> {
+        let ray = Ray::new(origin, direction);
+        self.plane()
+            .intersect(&ray, Interval::FORWARD)
+            .filter(|hit| self.shape().contains(hit.alpha, hit.beta))
     }
 }

@@ -6,6 +6,7 @@ use core::f64::consts::{PI, TAU};
 
 use glam::{DVec2, DVec3};
 
+use crate::light::{reaching, toward_middle};
 use crate::math::{acos, atan2, gamma, sin_cos, sqrt, unit_and_length};
 use crate::{Aabb, GeometryError, HitRecord, Hittable, Interval, MaterialId, PdfHittable, Ray};
 
@@ -176,11 +177,7 @@ impl PdfHittable for Sphere {
     fn pdf_value(&self, origin: DVec3, direction: DVec3) -> f64 {
         match self.cone(origin) {
             Some((_, one_minus_cos)) => {
-                // Only whether the ray meets the sphere ahead: the roots, not a hit record
-                // (whose point, error bound and uv this would compute and throw away).
-                let hits = self
-                    .roots(&Ray::new(origin, direction))
-                    .is_some_and(|(_, far)| far >= 0.0);
+                let hits = self.ahead(origin, direction);
                 let pdf = 1.0 / (TAU * one_minus_cos);
                 // A cone so thin that `1 - cos` underflows has no finite density: 0, as for
                 // a miss (also for NaN from an invalid ray).
@@ -195,23 +192,42 @@ impl PdfHittable for Sphere {
     }
 
     /// A direction uniformly distributed in the cone the sphere subtends from `origin`
-    /// (uniform over the sphere of directions from inside).
+    /// (uniform over the sphere of directions from inside). A direction on the cone's edge
+    /// (`u.x` near 1), which rounding may turn just past the sphere, is drawn again a little
+    /// further in, so that its [`pdf_value`](PdfHittable::pdf_value) is positive (the
+    /// contract's clause 6).
     fn sample_direction(&self, origin: DVec3, u: DVec2) -> DVec3 {
         if !origin.is_finite() {
             return DVec3::ZERO; // no direction from nowhere; it hits nothing
         }
         let u = u.clamp(DVec2::ZERO, DVec2::ONE);
-        let (axis, one_minus_cos) = self.cone(origin).unwrap_or((DVec3::Z, 2.0));
-        let one_minus = u.x * one_minus_cos;
-        let cos = 1.0 - one_minus;
-        let sin = sqrt((one_minus * (2.0 - one_minus)).max(0.0));
-        let (s, c) = sin_cos(TAU * u.y);
+        let cone = self.cone(origin);
+        let (axis, one_minus_cos) = cone.unwrap_or((DVec3::Z, 2.0));
         let (t, b) = axis.any_orthonormal_pair();
-        (c * sin) * t + (s * sin) * b + cos * axis
+        let sample = |k: f64| {
+            let u = toward_middle(u, k);
+            let one_minus = u.x * one_minus_cos;
+            let cos = 1.0 - one_minus;
+            let sin = sqrt((one_minus * (2.0 - one_minus)).max(0.0));
+            let (s, c) = sin_cos(TAU * u.y);
+            (c * sin) * t + (s * sin) * b + cos * axis
+        };
+        if cone.is_none() {
+            return sample(1.0); // from inside, every direction meets the sphere
+        }
+        reaching(sample, |d| self.ahead(origin, d))
     }
 }
 
 impl Sphere {
+    /// Whether the ray from `origin` along `direction` meets the sphere at `t >= 0`: the
+    /// roots alone, not a hit record (whose point, error bound and uv would be thrown away).
+    #[inline]
+    fn ahead(&self, origin: DVec3, direction: DVec3) -> bool {
+        self.roots(&Ray::new(origin, direction))
+            .is_some_and(|(_, far)| far >= 0.0)
+    }
+
     /// The axis (unit, toward the centre) and `1 - cos theta_max` of the cone the sphere
     /// subtends from `origin`, or `None` when the origin is inside or on it (or NaN). Written
     /// as `s^2 / (1 + sqrt(1 - s^2))`, `s = r / distance`, which keeps its digits for small,

@@ -2,6 +2,7 @@
 
 use glam::{BVec3, DMat3, DQuat, DVec2, DVec3, DVec4};
 
+use crate::light::{reaching, toward_middle};
 use crate::math::{gamma, sin_cos};
 use crate::{Aabb, GeometryError, HitRecord, Hittable, Interval, PdfHittable, Ray};
 
@@ -246,7 +247,9 @@ impl<T: Hittable> Hittable for Transformed<T> {
         // The object kept its t within its own box along the moved ray; in world space the
         // rounding of moving the ray may put it past the moved box, which contains the
         // object's: back onto it, so that a Bvh of moved objects finds what a loop finds.
-        hit.t = self.bbox.clamp_hit(ray, ray_t, hit.t)?;
+        // The box's own test (not `clamp_hit`'s shortcut) decides, as in `occluded`.
+        let span = self.bbox.ray_span(ray, ray_t)?;
+        hit.t = hit.t.clamp(span.min, span.max.max(span.min));
         (hit.point.is_finite() && hit.point_error.is_finite()).then_some(hit)
     }
 
@@ -259,7 +262,9 @@ impl<T: Hittable> Hittable for Transformed<T> {
 
     #[inline]
     fn occluded(&self, ray: &Ray, ray_t: Interval) -> bool {
-        self.object.occluded(&self.ray_to_object(ray), ray_t)
+        // What `hit` asks of the moved box too: the rounding of moving the ray can let the
+        // object find a crossing that the world-space box, and so `hit`, turns away.
+        self.bbox.hit(ray, ray_t) && self.object.occluded(&self.ray_to_object(ray), ray_t)
     }
 }
 
@@ -272,11 +277,25 @@ impl<T: PdfHittable> PdfHittable for Transformed<T> {
             .pdf_value(self.point_to_object(origin), self.inverse * direction)
     }
 
+    /// The object's sample, turned. Turning rounds: where that takes a direction on the
+    /// object's edge just past it, the object is sampled again from `u` moved a little
+    /// toward the middle of the square, so that the density is positive (the contract's
+    /// clause 6).
     #[inline]
     fn sample_direction(&self, origin: DVec3, u: DVec2) -> DVec3 {
-        let local = self
-            .object
-            .sample_direction(self.point_to_object(origin), u);
+        let local = self.point_to_object(origin);
+        reaching(
+            |k| self.turned(self.object.sample_direction(local, toward_middle(u, k))),
+            |d| self.pdf_value(origin, d) > 0.0,
+        )
+    }
+}
+
+impl<T> Transformed<T> {
+    /// A direction of the object's space in world space, without overflow where that is
+    /// possible; the zero vector where it is not.
+    #[inline]
+    fn turned(&self, local: DVec3) -> DVec3 {
         let direction = self.rotation * local;
         if direction.is_finite() {
             direction

@@ -29,3 +29,52 @@ pub use mixture::Mixture;
 pub use random::RandomDirection;
 pub use sampling::Sampling;
 pub(crate) use spherical::{Spherical, View};
+
+use glam::{DVec2, DVec3};
+
+/// How far a light's sampler retreats toward the middle of its shape, in turn, when a
+/// direction it drew does not reach the shape by the test its density goes by: the first
+/// (1, no retreat) is the sample itself, and for every `u` inside `[0, 1)^2` by more than
+/// rounding it is the one returned, so the distribution is unchanged but for the few
+/// directions that rounding aims just past an edge (a sampler's first point `(0, 0)`, a
+/// triangle's corner, a sphere's silhouette), which would have density 0 (the contract's
+/// clause 6). Each later factor moves the sample a larger share of the way in; the last
+/// (0) aims at the middle itself.
+const RETREAT: [f64; 6] = [
+    1.0,
+    1.0 - 1.0 / (1u64 << 40) as f64,
+    1.0 - 1.0 / (1u64 << 24) as f64,
+    1.0 - 1.0 / (1u64 << 12) as f64,
+    0.5,
+    0.0,
+];
+
+/// The first of `sample(k)`, for the factors `k` of [`RETREAT`], that `reaches`; the first
+/// sample if none does (a shape too small or far to aim at from `origin`, which has
+/// density 0 there in every direction).
+#[inline]
+pub(crate) fn reaching(
+    mut sample: impl FnMut(f64) -> DVec3,
+    reaches: impl Fn(DVec3) -> bool,
+) -> DVec3 {
+    let first = sample(RETREAT[0]);
+    if reaches(first) {
+        return first;
+    }
+    RETREAT[1..]
+        .iter()
+        .map(|&k| sample(k))
+        .find(|&d| reaches(d))
+        .unwrap_or(first)
+}
+
+/// `u` moved toward the middle of the unit square by the factor `k` of [`RETREAT`]; `u`
+/// itself, bit for bit, for `k = 1`.
+#[inline]
+pub(crate) fn toward_middle(u: DVec2, k: f64) -> DVec2 {
+    if k == 1.0 {
+        u
+    } else {
+        DVec2::splat(0.5) + (u - DVec2::splat(0.5)) * k
+    }
+}

@@ -4,6 +4,7 @@ use glam::{DVec2, DVec3};
 
 use super::TriangleMesh;
 use super::intersect::Sheared;
+use crate::light::reaching;
 use crate::math::{sqrt, unit_and_length};
 use crate::{Interval, PdfHittable, Ray};
 
@@ -78,13 +79,32 @@ impl PdfHittable for TriangleMesh {
         let within = ((target - below) / share).clamp(0.0, 1.0);
         let [p0, p1, p2] = self.corners_at(position);
         let s = sqrt(if within.is_finite() { within } else { 0.0 });
-        let (b1, b2) = (1.0 - s, u.y * s);
-        let toward = |k: f64| (k * p0 - k * origin) + (b1 * k * (p1 - p0) + b2 * k * (p2 - p0));
-        let direction = toward(1.0);
-        if direction.is_finite() {
-            direction
-        } else {
-            toward(0.25)
-        }
+        let sample = |k: f64| {
+            // Moved toward the face's centroid by the factor `k` (none for `k = 1`).
+            let (b1, b2) = if k == 1.0 {
+                (1.0 - s, u.y * s)
+            } else {
+                let third = 1.0 / 3.0;
+                (third + (1.0 - s - third) * k, third + (u.y * s - third) * k)
+            };
+            let toward = |k: f64| (k * p0 - k * origin) + (b1 * k * (p1 - p0) + b2 * k * (p2 - p0));
+            let direction = toward(1.0);
+            if direction.is_finite() {
+                direction
+            } else {
+                toward(0.25)
+            }
+        };
+        // A point on the face's edge (`u.x` or `u.y` at 0 or 1, as a sampler's first points
+        // are) may aim just past it, and past the mesh where the edge is its border: drawn
+        // again a little toward the face's middle, so that the density is positive (the
+        // contract's clause 6). The face's own crossing is what the density sums.
+        reaching(sample, |d| {
+            let ray = Ray::new(origin, d);
+            Sheared::new(&ray).is_some_and(|sheared| {
+                self.cross(&sheared, &ray, Interval::FORWARD, position)
+                    .is_some()
+            })
+        })
     }
 }
