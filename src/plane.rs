@@ -389,6 +389,9 @@ impl Plane {
         let (alpha, beta) = (p.dot(self.to_alpha), p.dot(self.to_beta));
         let hit = PlaneHit { t, alpha, beta };
         let parts = self.parts(ray, t, q_minus_o, p, denom.abs());
+        if !beyond(&parts, t, ray_t.min) {
+            return None;
+        }
         if let Some((window, filled)) = window {
             match self.clearly(&parts, &hit, window) {
                 Some(Clearly::Outside) => return None,
@@ -484,7 +487,8 @@ impl Plane {
         }
     }
 
-    /// The reach along the ray, in units of `t` (see [`Plane::crossing_region`]).
+    /// The reach along the ray, in units of `t` (see [`Plane::crossing_region`]): its
+    /// rounding, and the tolerance along the ray.
     #[inline(always)]
     fn reach(&self, p: &Parts, t: f64) -> f64 {
         let slack = p.slack;
@@ -558,7 +562,10 @@ impl Plane {
     /// relative to the magnitudes `a`, `b` and `P` as in [`Plane::crossing_region`]. The
     /// frame's own error `e` (from the `f64` vectors `v x w` and `w x u`) still applies to
     /// `alpha` and `beta`, and their final rounding to `f64` adds `u_r` of themselves.
-    pub(crate) fn refine(&self, ray: &Ray) -> Option<(PlaneHit, CrossingRegion)> {
+    ///
+    /// Also returns how far from `t` the exact crossing can be by rounding alone (the reach
+    /// without the tolerance), which the contract's clause 5 goes by (see [`beyond`]).
+    pub(crate) fn refine(&self, ray: &Ray) -> Option<(PlaneHit, CrossingRegion, f64)> {
         let (q, o, d) = (self.q, ray.origin, ray.direction);
         let a = [Dd::diff(q.x, o.x), Dd::diff(q.y, o.y), Dd::diff(q.z, o.z)];
         let (u, v) = (self.u, self.v);
@@ -603,12 +610,11 @@ impl Plane {
         let tilt = k * (1.0 + self.frame_error / gamma(2));
         let across = k * (a + b);
         let slack = c - (k + tilt) * d1;
-        let reach = if slack > 0.0 {
-            (k * (a + b) + tilt * (big_p + across)) / slack
-                + k * hit.t.abs()
-                + self.tolerance_along(slack, d1)
+        let (rounding, reach) = if slack > 0.0 {
+            let rounding = (k * (a + b) + tilt * (big_p + across)) / slack + k * hit.t.abs();
+            (rounding, rounding + self.tolerance_along(slack, d1))
         } else {
-            f64::INFINITY
+            (f64::INFINITY, f64::INFINITY)
         };
         // `along` in double-double too, then rounded: its error is `u_r` of itself (plus
         // `K` of the magnitudes), so that its drift over the reach stays within the
@@ -632,7 +638,7 @@ impl Plane {
             && hit.beta.is_finite()
             && region.radius.is_finite()
             && !region.reach.is_nan();
-        finite.then_some((hit, region))
+        finite.then_some((hit, region, rounding * (1.0 + gamma(16))))
     }
 
     /// The world-space distance by which shapes on this plane widen, so that neighbours
@@ -676,6 +682,22 @@ impl Plane {
                 .with_material(self.material)
         })
     }
+}
+
+/// Whether the exact crossing lies at or beyond `min` whatever the rounding of `t` (the
+/// contract's clause 5: a ray spawned from a surface, whose exact crossing is a hair behind
+/// its origin, gets a rounded `t` of zero or just above, and must not find it), or whether
+/// that cannot be told in `f64` (a reach without bound: `Quad::hit` then asks the refined
+/// crossing). The rounding of `t` is at most `height / slack`, for `height` the reach's
+/// numerator and its `t` term without the tolerance (which widens shapes against their
+/// neighbours' rounding, and is not an uncertainty of this crossing); checked without the
+/// division, with a factor 2 for the rounding of the check itself.
+#[inline(always)]
+fn beyond(p: &Parts, t: f64, min: f64) -> bool {
+    if min == f64::NEG_INFINITY || p.slack.is_nan() || p.slack <= 0.0 {
+        return true;
+    }
+    (t - min) * p.slack >= 2.0 * (p.numerator + gamma(2) * t.abs() * p.c)
 }
 
 impl Hittable for Plane {

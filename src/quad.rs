@@ -143,6 +143,11 @@ impl<S: Interior> Quad<S> {
             record.point_error += (inside - record.point).abs();
             record.point = inside;
         }
+        // Twice the tolerance by which this shape and its neighbours widen, so that a ray
+        // spawned from the hit clears them: leaving a face near its edge, almost along it,
+        // a ray would otherwise run within the neighbour's widening and find it at once
+        // (the contract's clause 5; pbrt-v4's test of convex shapes finds it on boxes).
+        record.point_error += DVec3::splat(2.0 * self.plane.tolerance());
         record.point_error.is_finite().then_some(record)
     }
 }
@@ -184,7 +189,11 @@ impl<S: Interior> Hittable for Quad<S> {
             // Rounding in f64 cannot tell: ask again of the double-double crossing, whose
             // region is as narrow as the shape's own corners allow.
             Meets::Near(_) => {
-                let (precise, region) = plane.refine(ray)?;
+                let (precise, region, rounding) = plane.refine(ray)?;
+                // Clause 5, where the f64 reach could not tell (see `Plane::crossing`).
+                if precise.t - rounding < ray_t.min && ray_t.min > f64::NEG_INFINITY {
+                    return None;
+                }
                 hit = match self.shape.meets(&region) {
                     Meets::Inside => precise,
                     Meets::Near(s) => {

@@ -205,14 +205,23 @@ impl<T> Transformed<T> {
     /// product, three sums), so the error is at most `gamma(4) (|R| |p| + |t|)`
     /// componentwise (Higham 3.1). One more rounding each, `(1 + gamma(4))` on the carried
     /// part and `gamma(5)` on the new one, covers the evaluation of the bound itself.
+    ///
+    /// And the way back: a ray spawned from the hit is moved into the object's space
+    /// again, `R^T (p - t)`, which rounds its origin by `gamma(4) |R^T| (|p| + |t|)` there,
+    /// `|R| |R^T| <= 1` (every entry, by Cauchy-Schwarz) times that in world space, so at
+    /// most `gamma(5)` of `|p| + |t|` summed over the axes on each. Without it the origin
+    /// could land back on the surface's inner side, and the object find the surface the
+    /// ray leaves (the contract's clause 5).
     #[inline]
     fn hit_to_world(&self, hit: HitRecord) -> HitRecord {
         let abs = self.rotation.abs();
         let carried = (1.0 + gamma(4)) * (abs * hit.point_error);
         let rounding = gamma(5) * (abs * hit.point.abs() + self.translation.abs());
+        let point = self.rotation * hit.point + self.translation;
+        let back = gamma(5) * (point.abs() + self.translation.abs()).element_sum();
         HitRecord {
-            point: self.rotation * hit.point + self.translation,
-            point_error: carried + rounding,
+            point,
+            point_error: carried + rounding + DVec3::splat(back),
             // Unit length to within a few ulps: the rotation is orthonormal to rounding.
             normal: self.rotation * hit.normal,
             shading_normal: self.rotation * hit.shading_normal,

@@ -268,8 +268,8 @@ impl TriangleMesh {
     }
 
     /// The crossing of the face at `position` with `ray`, if its `t` (kept within the
-    /// face's box along the ray) lies in `ray_t`, and the exact crossing beyond `ray_t.min`
-    /// whatever its rounding (the contract's clause 5: a ray spawned from a face never
+    /// face's box along the ray) lies in `ray_t`, and the exact crossing at or beyond
+    /// `ray_t.min` whatever its rounding (the contract's clause 5: a ray spawned from a face never
     /// finds it again, which a rounded `t` of zero or just above would break).
     #[inline(always)]
     fn cross(
@@ -281,7 +281,7 @@ impl TriangleMesh {
     ) -> Option<Crossing> {
         let p = self.corners_at(position);
         let mut crossing = sheared.test(&p)?;
-        let beyond = crossing.t - crossing.t_error > ray_t.min || ray_t.min == f64::NEG_INFINITY;
+        let beyond = crossing.t - crossing.t_error >= ray_t.min || ray_t.min == f64::NEG_INFINITY;
         crossing.t = face_box(p).clamp_hit(ray, Interval::UNIVERSE, crossing.t)?;
         (beyond && ray_t.contains(crossing.t)).then_some(crossing)
     }
