@@ -193,6 +193,16 @@ impl Aabb {
         (t0 < f64::INFINITY).then_some(Interval::new(t0, t1))
     }
 
+    /// Whether a coordinate of the box reaches a sixteenth of f64's largest (about
+    /// `2^1020`), or is unbounded: past it, a point of the box and a few ulps of error on
+    /// it could overflow, so shapes there make sure a hit's record can be made before
+    /// `occluded` counts it.
+    #[inline]
+    pub(crate) fn near_overflow(&self) -> bool {
+        let largest = self.min.abs().max(self.max.abs()).max_element();
+        largest.is_nan() || largest >= f64::MAX / 16.0
+    }
+
     /// `t` moved into the box's [span](Aabb::ray_span) along the ray, or `None` when the
     /// ray misses the box: how shapes keep their hits consistent with their boxes.
     ///

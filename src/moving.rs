@@ -125,6 +125,10 @@ impl<T: Hittable> Hittable for Moving<T> {
 
     #[inline]
     fn occluded(&self, ray: &Ray, ray_t: Interval) -> bool {
+        // Near f64's end, moving the hit can overflow, and `hit` then finds nothing.
+        if self.bbox.near_overflow() {
+            return self.hit(ray, ray_t).is_some();
+        }
         // The box test `hit` makes too (see `Transformed`).
         self.bbox.hit(ray, ray_t)
             && self

@@ -271,6 +271,10 @@ impl<T: Hittable> Hittable for Transformed<T> {
 
     #[inline]
     fn occluded(&self, ray: &Ray, ray_t: Interval) -> bool {
+        // Near f64's end, moving the hit can overflow, and `hit` then finds nothing.
+        if self.bbox.near_overflow() {
+            return self.hit(ray, ray_t).is_some();
+        }
         // What `hit` asks of the moved box too: the rounding of moving the ray can let the
         // object find a crossing that the world-space box, and so `hit`, turns away.
         self.bbox.hit(ray, ray_t) && self.object.occluded(&self.ray_to_object(ray), ray_t)

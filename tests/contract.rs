@@ -18,8 +18,9 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 
 use hitkit::glam::{DMat3, DVec2, DVec3};
 use hitkit::{
-    Aabb, Bvh, Cuboid, Disk, Exact, HitRecord, Hittable, Interior, Interval, Mixture,
+    Aabb, Bvh, Cuboid, Disk, Exact, HitRecord, Hittable, Interior, Interval, Mixture, Moving,
     Parallelogram, PdfHittable, Plane, Quad, Ray, Ring, Sphere, Transformed, Triangle,
+    TriangleMesh,
 };
 use proptest::prelude::*;
 use support::distance::{planar_bound, to_polygon};
@@ -579,6 +580,7 @@ fn extreme() -> impl Strategy<Value = f64> {
         6 => -4.0f64..4.0,
         1 => Just(0.0), 1 => Just(-0.0), 1 => Just(5e-324), 1 => Just(-2.2e-308),
         1 => Just(1e-300), 1 => Just(-1e-300), 1 => Just(1e300), 1 => Just(-1e300),
+        1 => Just(1e154), 1 => Just(-1e-154), 1 => -1e160f64..1e160, 1 => -1e-150f64..1e-150,
         1 => Just(f64::MAX), 1 => Just(f64::MIN), 1 => Just(f64::INFINITY),
         1 => Just(f64::NEG_INFINITY), 1 => Just(f64::NAN),
     ]
@@ -591,6 +593,11 @@ fn extreme3() -> impl Strategy<Value = DVec3> {
 /// A box is never NaN (infinite sides are fine: unbounded shapes).
 fn box_ok(b: &Aabb) -> bool {
     !b.min().is_nan() && !b.max().is_nan()
+}
+
+/// The hit's point lies in the box of the shape hit, to within its error bound.
+fn in_box(h: &HitRecord, b: &Aabb) -> bool {
+    (h.point - h.point_error).cmple(b.max()).all() && (h.point + h.point_error).cmpge(b.min()).all()
 }
 
 /// A hit record carries only finite numbers.
@@ -607,7 +614,9 @@ proptest! {
 
     /// Clause 4: every constructor and every query, on values that mix normal numbers with
     /// the ends of f64: an error or a sound object; no hit, box, density, direction or
-    /// spawned ray with a NaN or an infinity (boxes of unbounded shapes excepted).
+    /// spawned ray with a NaN or an infinity (boxes of unbounded shapes excepted). And on
+    /// the same values, clause 3's consequences: every hit lies in its shape's box, every
+    /// shape's `occluded` answers as its `hit`, and a `Bvh` of them all as the loop.
     #[test]
     fn no_constructor_or_query_returns_nan_or_infinity_for_extreme_values(
         q in extreme3(), u in extreme3(), v in extreme3(), o in extreme3(), d in extreme3(),
@@ -624,47 +633,61 @@ proptest! {
         if let Ok(x) = Sphere::new(q, r).and_then(|s| Transformed::new(s, hitkit::glam::DQuat::from_xyzw(u.x, u.y, u.z, r), v)) { objects.push(Box::new(x)); }
         if let Ok(x) = Quad::new(q, u, v).and_then(|s| Transformed::translate(s, o)) { objects.push(Box::new(x)); }
         if let Ok(x) = Quad::new(q, u, v).and_then(|s| Transformed::rotate_y(s, r)) { objects.push(Box::new(x)); }
+        if let Ok(x) = TriangleMesh::new(&[q, q + u, q + v], &[[0, 1, 2]]) { objects.push(Box::new(x)); }
         let mut hittables: Vec<Box<dyn Hittable>> = Vec::new();
         if let Ok(x) = Plane::new(q, u, v) { hittables.push(Box::new(x)); }
         if let Ok(x) = Cuboid::new(q, u) { hittables.push(Box::new(x)); }
+        if let Ok(x) = Cuboid::new(q, u).and_then(|c| Transformed::new(c, hitkit::glam::DQuat::from_xyzw(v.x, v.y, v.z, r), o)) { hittables.push(Box::new(x)); }
+        if let Ok(x) = Sphere::new(q, r).and_then(|s| Moving::new(s, v)) { hittables.push(Box::new(x)); }
         if let Ok(x) = Quad::with_interior(q, u, v, Exact(Parallelogram)) { hittables.push(Box::new(x)); }
         prop_assert!(box_ok(&Aabb::new(q, u)) && box_ok(&Aabb::from_points(&[q, u, v])));
         if let Some(span) = Aabb::new(q, u).ray_span(&ray, interval) {
             prop_assert!(!span.min.is_nan() && !span.max.is_nan());
         }
 
-        for object in &objects {
+        for (i, object) in objects.iter().enumerate() {
             prop_assert!(box_ok(&object.bounding_box()));
-            if let Some(h) = object.hit(&ray, interval) {
+            let hit = object.hit(&ray, interval);
+            if let Some(h) = hit {
                 prop_assert!(record_ok(&h), "{:?}", h);
+                prop_assert!(in_box(&h, &object.bounding_box()), "{:?} {:?}", h, object.bounding_box());
                 let spawned = h.spawn_ray(d);
                 prop_assert!(spawned.origin.is_finite());
             }
-            let _ = object.occluded(&ray, interval);
+            prop_assert_eq!(object.occluded(&ray, interval), hit.is_some(), "light {}", i);
             let pdf = object.pdf_value(o, d);
             prop_assert!(pdf.is_finite() && pdf >= 0.0, "pdf {}", pdf);
             let sample = object.sample_direction(o, DVec2::new(ux, uy));
             prop_assert!(sample.is_finite(), "sample {}", sample);
         }
-        for object in &hittables {
+        for (i, object) in hittables.iter().enumerate() {
             prop_assert!(box_ok(&object.bounding_box()));
-            if let Some(h) = object.hit(&ray, interval) {
+            let hit = object.hit(&ray, interval);
+            if let Some(h) = hit {
                 prop_assert!(record_ok(&h), "{:?}", h);
+                prop_assert!(in_box(&h, &object.bounding_box()), "{:?} {:?}", h, object.bounding_box());
             }
+            prop_assert_eq!(object.occluded(&ray, interval), hit.is_some(), "shape {}", i);
         }
         if !objects.is_empty() {
-            let n = objects.len();
-            if let Ok(mix) = Mixture::new(objects, &vec![1.0; n]) {
+            let lights: Vec<&dyn PdfHittable> = objects.iter().map(|o| o.as_ref()).collect();
+            if let Ok(mix) = Mixture::new(lights, &vec![1.0; objects.len()]) {
                 let pdf = mix.pdf_value(o, d);
                 prop_assert!(pdf.is_finite() && pdf >= 0.0);
                 prop_assert!(mix.sample_direction(o, DVec2::new(ux, uy)).is_finite());
             }
         }
+        // Every shape in one tree: it answers as the loop, and `occluded` as `hit`.
+        hittables.extend(objects.into_iter().map(|o| Box::new(o) as Box<dyn Hittable>));
+        let found = hittables.iter().any(|o| o.hit(&ray, interval).is_some());
         let bvh = Bvh::new(hittables);
         prop_assert!(box_ok(&bvh.bounding_box()));
-        if let Some(h) = bvh.hit(&ray, interval) {
+        let hit = bvh.hit(&ray, interval);
+        if let Some(h) = hit {
             prop_assert!(record_ok(&h));
         }
+        prop_assert_eq!(hit.is_some(), found);
+        prop_assert_eq!(bvh.occluded(&ray, interval), found);
     }
 }
 

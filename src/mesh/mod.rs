@@ -283,7 +283,30 @@ impl TriangleMesh {
         let mut crossing = sheared.test(&p)?;
         let beyond = crossing.t - crossing.t_error >= ray_t.min || ray_t.min == f64::NEG_INFINITY;
         crossing.t = face_box(p).clamp_hit(ray, Interval::UNIVERSE, crossing.t)?;
-        (beyond && ray_t.contains(crossing.t)).then_some(crossing)
+        if !(beyond && ray_t.contains(crossing.t)) {
+            return None;
+        }
+        // Away from f64's end the hit's point and error bound cannot overflow (the weights
+        // sum to one, the bound is a few ulps of three such terms); near it, only a
+        // crossing whose record can be made counts, so that `occluded` answers as `hit`.
+        if self.bbox.near_overflow() && self.point(position, &crossing).is_none() {
+            return None;
+        }
+        Some(crossing)
+    }
+
+    /// The point of `crossing` on the face at `position`, and its error bound; `None` where
+    /// either overflows.
+    #[inline]
+    fn point(&self, position: usize, crossing: &Crossing) -> Option<(DVec3, DVec3)> {
+        let [p0, p1, p2] = self.corners_at(position);
+        let b = crossing.barycentric;
+        let (w0, w1, w2) = (b.x * p0, b.y * p1, b.z * p2);
+        let point = w0 + w1 + w2;
+        // pbrt-v4 (`Triangle::InteractionFromIntersection`): the weights sum to one to
+        // within a few roundings, and the sum of the weighted corners adds its own.
+        let point_error = gamma(7) * (w0.abs() + w1.abs() + w2.abs());
+        (point.is_finite() && point_error.is_finite()).then_some((point, point_error))
     }
 
     /// The closest crossing, its position in the tree's order, by the same rule as
@@ -316,11 +339,7 @@ impl TriangleMesh {
         let face = self.triangles[position];
         let [p0, p1, p2] = self.corners_at(position);
         let b = crossing.barycentric;
-        let (w0, w1, w2) = (b.x * p0, b.y * p1, b.z * p2);
-        let point = w0 + w1 + w2;
-        // pbrt-v4 (`Triangle::InteractionFromIntersection`): the weights sum to one to
-        // within a few roundings, and the sum of the weighted corners adds its own.
-        let point_error = gamma(7) * (w0.abs() + w1.abs() + w2.abs());
+        let (point, point_error) = self.point(position, crossing)?;
         let (normal, _) = unit_and_length((p1 - p0).cross(p2 - p0));
         let uv = if self.uvs.is_empty() {
             DVec2::new(b.y, b.z)
@@ -340,8 +359,7 @@ impl TriangleMesh {
                 record = record.with_shading_normal(shading);
             }
         }
-        (record.point.is_finite() && record.point_error.is_finite() && normal.is_finite())
-            .then_some(record)
+        normal.is_finite().then_some(record)
     }
 }
 
