@@ -36,6 +36,9 @@ pub struct Moving<T> {
     object: T,
     displacement: DVec3,
     bbox: Aabb,
+    /// Whether the box reaches near f64's end ([`Aabb::near_overflow`]), where moving a hit
+    /// can overflow: settled once here, not on every `occluded`.
+    near_overflow: bool,
 }
 
 impl<T: Hittable> Moving<T> {
@@ -71,6 +74,7 @@ impl<T: Hittable> Moving<T> {
         Ok(Self {
             object,
             displacement,
+            near_overflow: bbox.near_overflow(),
             bbox,
         })
     }
@@ -126,14 +130,13 @@ impl<T: Hittable> Hittable for Moving<T> {
     #[inline]
     fn occluded(&self, ray: &Ray, ray_t: Interval) -> bool {
         // Near f64's end, moving the hit can overflow, and `hit` then finds nothing.
-        if self.bbox.near_overflow() {
+        if self.near_overflow {
             return self.hit(ray, ray_t).is_some();
         }
-        // The box test `hit` makes too (see `Transformed`).
-        self.bbox.hit(ray, ray_t)
-            && self
-                .object
-                .occluded(&back_by(ray, self.offset_at(ray.time)), ray_t)
+        // The box test `hit` makes too, last (see `Transformed`).
+        self.object
+            .occluded(&back_by(ray, self.offset_at(ray.time)), ray_t)
+            && self.bbox.hit(ray, ray_t)
     }
 }
 

@@ -39,6 +39,9 @@ pub struct Transformed<T> {
     inverse: DMat3,
     translation: DVec3,
     bbox: Aabb,
+    /// Whether the box reaches near f64's end ([`Aabb::near_overflow`]), where moving a hit
+    /// can overflow: settled once here, not on every `occluded`.
+    near_overflow: bool,
     instance: Option<u32>,
 }
 
@@ -113,6 +116,7 @@ impl<T: Hittable> Transformed<T> {
             rotation,
             inverse: rotation.transpose(),
             translation,
+            near_overflow: bbox.near_overflow(),
             bbox,
             instance: None,
         })
@@ -272,12 +276,13 @@ impl<T: Hittable> Hittable for Transformed<T> {
     #[inline]
     fn occluded(&self, ray: &Ray, ray_t: Interval) -> bool {
         // Near f64's end, moving the hit can overflow, and `hit` then finds nothing.
-        if self.bbox.near_overflow() {
+        if self.near_overflow {
             return self.hit(ray, ray_t).is_some();
         }
         // What `hit` asks of the moved box too: the rounding of moving the ray can let the
-        // object find a crossing that the world-space box, and so `hit`, turns away.
-        self.bbox.hit(ray, ray_t) && self.object.occluded(&self.ray_to_object(ray), ray_t)
+        // object find a crossing that the world-space box, and so `hit`, turns away. Asked
+        // last, so that it costs a slab test only where the object is occluded.
+        self.object.occluded(&self.ray_to_object(ray), ray_t) && self.bbox.hit(ray, ray_t)
     }
 }
 

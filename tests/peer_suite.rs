@@ -35,6 +35,16 @@ fn scaled(n: usize) -> usize {
     n * scale.unwrap_or(1)
 }
 
+/// Pushes `(name, shape)` onto `out` where `shape` (a `Result`) was built: shapes that an
+/// input makes invalid are left out, not failures.
+macro_rules! push {
+    ($out:ident, $name:expr, $shape:expr) => {
+        if let Ok(shape) = $shape {
+            $out.push(($name, Box::new(shape) as _));
+        }
+    };
+}
+
 /// pbrt's `pExp`: `10^x` for `x` uniform in `[-exp, exp]`.
 fn p_exp(rng: &mut SplitMix, exp: f64) -> f64 {
     10f64.powf(-exp + 2.0 * exp * rng.next_f64())
@@ -67,12 +77,9 @@ fn on_triangle(rng: &mut SplitMix, p: [DVec3; 3]) -> DVec3 {
 /// The two ways a triangle is built: the planar shape and a one-face mesh.
 fn triangle_shapes(p: [DVec3; 3]) -> Vec<(&'static str, Box<dyn Hittable>)> {
     let mut out: Vec<(&'static str, Box<dyn Hittable>)> = Vec::new();
-    if let Ok(quad) = Quad::with_interior(p[0], p[1] - p[0], p[2] - p[0], Triangle) {
-        out.push(("Quad<Triangle>", Box::new(quad)));
-    }
-    if let Ok(mesh) = TriangleMesh::new(&p, &[[0, 1, 2]]) {
-        out.push(("TriangleMesh", Box::new(mesh)));
-    }
+    let quad = Quad::with_interior(p[0], p[1] - p[0], p[2] - p[0], Triangle);
+    push!(out, "Quad<Triangle>", quad);
+    push!(out, "TriangleMesh", TriangleMesh::new(&p, &[[0, 1, 2]]));
     out
 }
 
@@ -155,77 +162,49 @@ fn convex_shapes(rng: &mut SplitMix) -> Vec<(&'static str, Box<dyn Hittable>)> {
     );
     let corner = centre - 0.5 * (u + v);
     let mut out: Vec<(&'static str, Box<dyn Hittable>)> = Vec::new();
-    let mut push = |name, shape: Option<Box<dyn Hittable>>| {
-        if let Some(shape) = shape {
-            out.push((name, shape));
-        }
-    };
-    push(
-        "Sphere",
-        Sphere::new(centre, size).ok().map(|s| Box::new(s) as _),
-    );
+    push!(out, "Sphere", Sphere::new(centre, size));
     let cuboid = Cuboid::new(
         centre - 0.4 * size,
         centre + DVec3::new(0.3, 0.5, 0.2) * size,
     );
-    push("Cuboid", cuboid.ok().map(|c| Box::new(c) as _));
+    push!(out, "Cuboid", cuboid);
     let local = Cuboid::new(DVec3::splat(-0.4 * size), DVec3::new(0.3, 0.5, 0.2) * size);
-    push(
+    push!(
+        out,
         "Transformed<Cuboid>",
-        local
-            .and_then(|c| Transformed::new(c, turn, centre))
-            .ok()
-            .map(|c| Box::new(c) as _),
+        local.and_then(|c| Transformed::new(c, turn, centre))
     );
-    push(
+    push!(
+        out,
         "Transformed<Sphere>",
-        Sphere::new(DVec3::ZERO, size)
-            .and_then(|s| Transformed::new(s, turn, centre))
-            .ok()
-            .map(|s| Box::new(s) as _),
+        Sphere::new(DVec3::ZERO, size).and_then(|s| Transformed::new(s, turn, centre))
     );
-    push(
+    push!(
+        out,
         "Moving<Sphere>",
-        Sphere::new(centre, size)
-            .and_then(|s| Moving::new(s, size * rng.vec3()))
-            .ok()
-            .map(|s| Box::new(s) as _),
+        Sphere::new(centre, size).and_then(|s| Moving::new(s, size * rng.vec3()))
     );
-    push(
-        "Parallelogram",
-        Quad::new(corner, u, v).ok().map(|q| Box::new(q) as _),
-    );
-    push(
-        "Triangle",
-        Quad::with_interior(corner, u, v, Triangle)
-            .ok()
-            .map(|q| Box::new(q) as _),
-    );
-    push(
-        "Disk",
-        Quad::with_interior(centre, u, v, Disk)
-            .ok()
-            .map(|q| Box::new(q) as _),
-    );
-    push(
+    push!(out, "Parallelogram", Quad::new(corner, u, v));
+    push!(out, "Triangle", Quad::with_interior(corner, u, v, Triangle));
+    push!(out, "Disk", Quad::with_interior(centre, u, v, Disk));
+    push!(
+        out,
         "Ring",
         Quad::with_interior(centre, u, v, Ring::new(0.4).unwrap())
-            .ok()
-            .map(|q| Box::new(q) as _),
     );
     let (unit, faces) = icosphere(2);
     let vertices: Vec<DVec3> = unit.iter().map(|&p| centre + turn * (size * p)).collect();
-    let mesh = TriangleMesh::new(&vertices, &faces).ok();
-    push(
+    push!(
+        out,
         "TriangleMesh (closed, convex)",
-        mesh.map(|m| Box::new(m) as _),
+        TriangleMesh::new(&vertices, &faces)
     );
-    if let Ok(c) = Cuboid::new(centre - 0.4 * size, centre + 0.3 * size) {
-        push(
-            "Bvh of a box's faces",
-            Some(Box::new(Bvh::new(c.faces().to_vec()))),
-        );
-    }
+    let cuboid = Cuboid::new(centre - 0.4 * size, centre + 0.3 * size);
+    push!(
+        out,
+        "Bvh of a box's faces",
+        cuboid.map(|c| Bvh::new(c.faces().to_vec()))
+    );
     out
 }
 
@@ -399,61 +378,32 @@ const EDGES: [f64; 4] = [0.0, f64::EPSILON / 2.0, 0.5, 1.0 - f64::EPSILON / 2.0]
 fn lights(p: [DVec3; 3], rng: &mut SplitMix) -> Vec<(&'static str, Box<dyn PdfHittable>)> {
     let (q, u, v) = (p[0], p[1] - p[0], p[2] - p[0]);
     let mut out: Vec<(&'static str, Box<dyn PdfHittable>)> = Vec::new();
-    let mut push = |name, light: Option<Box<dyn PdfHittable>>| {
-        if let Some(light) = light {
-            out.push((name, light));
-        }
-    };
-    let parallelogram = Quad::with_interior(q, u, v, Parallelogram).ok();
-    push("Parallelogram", parallelogram.map(|x| Box::new(x) as _));
-    push(
-        "Parallelogram by area",
-        parallelogram.map(|x| Box::new(x.with_sampling(Sampling::Area)) as _),
-    );
+    let parallelogram = Quad::with_interior(q, u, v, Parallelogram);
+    push!(out, "Parallelogram", parallelogram);
+    let by_area = parallelogram.map(|x| x.with_sampling(Sampling::Area));
+    push!(out, "Parallelogram by area", by_area);
     // A rectangle, which is sampled by solid angle.
     let w = u.cross(v).cross(u).normalize() * v.length();
-    push(
-        "Rectangle",
-        Quad::new(q, u, w).ok().map(|x| Box::new(x) as _),
-    );
-    push(
-        "Triangle",
-        Quad::with_interior(q, u, v, Triangle)
-            .ok()
-            .map(|x| Box::new(x) as _),
-    );
-    push(
-        "Disk",
-        Quad::with_interior(q, u, v, Disk)
-            .ok()
-            .map(|x| Box::new(x) as _),
-    );
-    push(
+    push!(out, "Rectangle", Quad::new(q, u, w));
+    push!(out, "Triangle", Quad::with_interior(q, u, v, Triangle));
+    push!(out, "Disk", Quad::with_interior(q, u, v, Disk));
+    push!(
+        out,
         "Ring",
         Quad::with_interior(q, u, v, Ring::new(0.5).unwrap())
-            .ok()
-            .map(|x| Box::new(x) as _),
     );
     let radius = u.length().min(v.length()) * 0.5;
-    push(
-        "Sphere",
-        Sphere::new(q, radius).ok().map(|x| Box::new(x) as _),
-    );
-    push(
-        "TriangleMesh",
-        TriangleMesh::new(&p, &[[0, 1, 2]])
-            .ok()
-            .map(|x| Box::new(x) as _),
-    );
+    push!(out, "Sphere", Sphere::new(q, radius));
+    push!(out, "TriangleMesh", TriangleMesh::new(&p, &[[0, 1, 2]]));
     let corners = [q, q + u, q + u + w, q + w];
-    push(
+    push!(
+        out,
         "TriangleMesh of two faces",
         TriangleMesh::new(&corners, &[[0, 1, 2], [0, 2, 3]])
-            .ok()
-            .map(|x| Box::new(x) as _),
     );
     let turn = DQuat::from_axis_angle(rng.direction(), std::f64::consts::TAU * rng.next_f64());
-    push(
+    push!(
+        out,
         "Transformed<Triangle>",
         Quad::with_interior(
             turn.inverse() * q,
@@ -462,17 +412,14 @@ fn lights(p: [DVec3; 3], rng: &mut SplitMix) -> Vec<(&'static str, Box<dyn PdfHi
             Triangle,
         )
         .and_then(|x| Transformed::new(x, turn, DVec3::ZERO))
-        .ok()
-        .map(|x| Box::new(x) as _),
     );
     let mixture = Quad::with_interior(q, u, v, Triangle)
         .and_then(|t| Sphere::new(q + u, radius).map(|s| (t, s)))
-        .ok()
         .and_then(|(t, s)| {
             let parts: Vec<Box<dyn PdfHittable>> = vec![Box::new(t), Box::new(s)];
-            Mixture::new(parts, &[0.3, 0.7]).ok()
+            Mixture::new(parts, &[0.3, 0.7])
         });
-    push("Mixture", mixture.map(|x| Box::new(x) as _));
+    push!(out, "Mixture", mixture);
     out
 }
 

@@ -4,7 +4,7 @@ use glam::{DVec2, DVec3};
 
 use super::TriangleMesh;
 use super::intersect::Sheared;
-use crate::light::reaching;
+use crate::light::{reaching, toward_middle};
 use crate::math::{sqrt, unit_and_length};
 use crate::{Interval, PdfHittable, Ray};
 
@@ -78,15 +78,13 @@ impl PdfHittable for TriangleMesh {
         let share = self.cumulative_area[position] - below;
         let within = ((target - below) / share).clamp(0.0, 1.0);
         let [p0, p1, p2] = self.corners_at(position);
-        let s = sqrt(if within.is_finite() { within } else { 0.0 });
+        let within = DVec2::new(if within.is_finite() { within } else { 0.0 }, u.y);
         let sample = |k: f64| {
-            // Moved toward the face's centroid by the factor `k` (none for `k = 1`).
-            let (b1, b2) = if k == 1.0 {
-                (1.0 - s, u.y * s)
-            } else {
-                let third = 1.0 / 3.0;
-                (third + (1.0 - s - third) * k, third + (u.y * s - third) * k)
-            };
+            // The point within the face, from `within` moved toward the middle of the
+            // square (not at all for `k = 1`), which stays on the face.
+            let w = toward_middle(within, k);
+            let s = sqrt(w.x);
+            let (b1, b2) = (1.0 - s, w.y * s);
             let toward = |k: f64| (k * p0 - k * origin) + (b1 * k * (p1 - p0) + b2 * k * (p2 - p0));
             let direction = toward(1.0);
             if direction.is_finite() {

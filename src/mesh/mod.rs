@@ -71,6 +71,9 @@ pub struct TriangleMesh {
     /// How many faces the caller gave, degenerate ones included.
     faces: usize,
     bbox: Aabb,
+    /// Whether the box reaches near f64's end ([`Aabb::near_overflow`]), where a hit's
+    /// point can overflow: settled once here, not for every crossing.
+    near_overflow: bool,
     material: MaterialId,
     /// Running sums of the triangles' areas, in the tree's order: what sampling by area
     /// picks a face from.
@@ -168,6 +171,7 @@ impl TriangleMesh {
             triangles,
             tree,
             faces: faces.len(),
+            near_overflow: bbox.near_overflow(),
             bbox,
             material: MaterialId::default(),
             cumulative_area,
@@ -289,7 +293,7 @@ impl TriangleMesh {
         // Away from f64's end the hit's point and error bound cannot overflow (the weights
         // sum to one, the bound is a few ulps of three such terms); near it, only a
         // crossing whose record can be made counts, so that `occluded` answers as `hit`.
-        if self.bbox.near_overflow() && self.point(position, &crossing).is_none() {
+        if self.near_overflow && self.point(position, &crossing).is_none() {
             return None;
         }
         Some(crossing)
