@@ -297,9 +297,9 @@ impl Default for Aabb {
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct BoxRay {
     origin: DVec3,
-    inv_direction: DVec3,
+    pub(crate) inv_direction: DVec3,
     /// Sign bits, so that `-0.0` counts as negative: its reciprocal is `-inf`.
-    negative: [bool; 3],
+    pub(crate) negative: [bool; 3],
 }
 
 impl BoxRay {

@@ -8,7 +8,7 @@ use alloc::vec::Vec;
 
 use glam::{DVec3, Vec4};
 
-use super::{Bvh, MAX_DEPTH, Pair, Tree};
+use super::{Bvh, MAX_DEPTH, Node, Tree, WIDTH};
 use crate::{Aabb, Hittable};
 
 /// Centroid bins per axis.
@@ -69,6 +69,32 @@ impl Prim {
     #[inline]
     fn centroid2(&self) -> Vec4 {
         (self.min + self.max).with_w(0.0)
+    }
+}
+
+/// Two sibling nodes of the binary tree the SAH build makes, before [`collapse`] turns it
+/// into [`Node`]s of four: their boxes, and for each either two children (`count == 0`,
+/// `index` the pair that holds them) or a leaf (`count` objects from `index`).
+#[derive(Clone, Copy)]
+struct Pair {
+    min: [[f32; 2]; 3],
+    max: [[f32; 2]; 3],
+    index: [u32; 2],
+    count: [u32; 2],
+}
+
+impl Pair {
+    /// Child `k` (0 or 1).
+    fn child(&self, k: usize) -> Child {
+        let corner = |c: &[[f32; 2]; 3]| Vec4::new(c[0][k], c[1][k], c[2][k], 0.0);
+        Child {
+            bounds: Box3 {
+                min: corner(&self.min),
+                max: corner(&self.max),
+            },
+            index: self.index[k],
+            count: self.count[k],
+        }
     }
 }
 
@@ -176,22 +202,23 @@ impl Tree {
             }
         }
 
-        let mut pairs = Vec::new();
+        let mut nodes = Vec::new();
+        let (mut rounding, mut compact, mut depth) = ([0.0; 3], true, 0);
         if !prims.is_empty() {
-            let empty = Child {
-                bounds: Box3::EMPTY,
-                index: 0,
-                count: 0,
-            };
-            pairs.reserve(prims.len() / 2 + 1);
-            pairs.push(pair(empty, empty));
             let extent = Extent::of(&prims);
             let mut builder = Builder::new(shape, parallel);
-            builder.pairs = pairs;
             let root = builder.node(&mut prims, 0, 0, extent);
-            pairs = builder.pairs;
-            pairs[0] = pair(root, empty);
-            pairs.shrink_to_fit();
+            nodes.reserve(builder.pairs.len() / 2 + 1);
+            depth = collapse(&builder.pairs, root, &mut nodes);
+            let (lo, hi) = (extent.bounds.min, extent.bounds.max);
+            for axis in 0..3 {
+                // Every node's bounds lie within the root's; `origin + bound` rounds by at
+                // most an ulp (2^-52 of it), and twice that leaves room.
+                let (a, b) = (f64::from(lo[axis]), f64::from(hi[axis]));
+                let largest = (origin[axis] + a).abs().max((origin[axis] + b).abs());
+                rounding[axis] = largest * 2f64.powi(-51);
+                compact &= a.abs().max(b.abs()) <= 2f64.powi(60);
+            }
         }
         let bounded = prims.len();
         let mut order: Vec<u32> = Vec::with_capacity(count);
@@ -199,13 +226,71 @@ impl Tree {
         drop(prims);
         order.extend(unbounded);
         let tree = Self {
-            pairs,
+            nodes,
             origin,
+            rounding,
+            compact,
+            depth,
             order,
             bounded,
         };
         (tree, bbox)
     }
+}
+
+/// The binary tree of `pairs` under `root` as nodes of up to four children, appended to
+/// `nodes` parents first: each node takes its two children, then, while it has a free
+/// lane, opens the inner child of largest surface area (the one a ray most often enters)
+/// in place of it. A root that is a leaf becomes a node of one child. Returns the levels
+/// of nodes.
+fn collapse(pairs: &[Pair], root: Child, nodes: &mut Vec<Node>) -> usize {
+    let slot = nodes.len();
+    nodes.push(Node {
+        bounds: [
+            [f32::INFINITY; WIDTH],
+            [f32::INFINITY; WIDTH],
+            [f32::INFINITY; WIDTH],
+            [f32::NEG_INFINITY; WIDTH],
+            [f32::NEG_INFINITY; WIDTH],
+            [f32::NEG_INFINITY; WIDTH],
+        ],
+        index: [0; WIDTH],
+        count: [0; WIDTH],
+    });
+    let mut lanes = [root; WIDTH];
+    let mut used = 1;
+    if root.count == 0 {
+        let pair = &pairs[root.index as usize];
+        (lanes[0], lanes[1], used) = (pair.child(0), pair.child(1), 2);
+        while used < WIDTH {
+            let widest = (0..used).filter(|&k| lanes[k].count == 0).max_by(|&a, &b| {
+                lanes[a]
+                    .bounds
+                    .half_area()
+                    .total_cmp(&lanes[b].bounds.half_area())
+            });
+            let Some(k) = widest else { break };
+            let pair = &pairs[lanes[k].index as usize];
+            (lanes[k], lanes[used]) = (pair.child(0), pair.child(1));
+            used += 1;
+        }
+    }
+    let mut below = 0;
+    for (k, &child) in lanes[..used].iter().enumerate() {
+        let mut lane = child;
+        if lane.count == 0 {
+            lane.index = nodes.len() as u32;
+            below = below.max(collapse(pairs, child, nodes));
+        }
+        let node = &mut nodes[slot];
+        for axis in 0..3 {
+            node.bounds[axis][k] = lane.bounds.min[axis];
+            node.bounds[3 + axis][k] = lane.bounds.max[axis];
+        }
+        node.index[k] = lane.index;
+        node.count[k] = lane.count;
+    }
+    below + 1
 }
 
 fn pair(a: Child, b: Child) -> Pair {

@@ -16,19 +16,23 @@ use crate::{Aabb, HitRecord, Hittable, Interval, Ray};
 /// median splits (which halve the count) well before it: see `build::MEDIAN_FROM_DEPTH`.
 const MAX_DEPTH: usize = 64;
 
-/// Two sibling nodes, tested together, in one 64-byte cache line: their boxes in `f32`,
-/// relative to the tree's `origin` (rounded outward, so they still hold everything they
-/// must, and as precise at 1e9 from the world's origin as at it), axis by axis so that both
-/// are tested in the same instructions, and for each either two children (`count == 0`,
-/// `index` the pair that holds them) or a leaf (`count` objects from `index`). The root is
-/// child 0 of pair 0, beside an empty box.
+/// Children per node.
+const WIDTH: usize = 4;
+
+/// A node: the boxes of up to four children, tested together in SIMD lanes, in two
+/// 64-byte cache lines. The boxes are `f32`, relative to the tree's `origin` (rounded
+/// outward, so they still hold everything they must, and as precise at 1e9 from the
+/// world's origin as at it), bound by bound (`bounds[axis]` the lower bounds along
+/// `axis`, `bounds[3 + axis]` the upper), so that a ray picks its near and far bound per
+/// axis once. For each child either a node (`count == 0`, `index` the node) or a leaf
+/// (`count` objects from `index`); an unused lane holds an empty box, which no ray enters.
+/// The root is node 0.
 #[derive(Clone, Copy, Debug)]
 #[repr(C, align(64))]
-struct Pair {
-    min: [[f32; 2]; 3],
-    max: [[f32; 2]; 3],
-    index: [u32; 2],
-    count: [u32; 2],
+struct Node {
+    bounds: [[f32; WIDTH]; 6],
+    index: [u32; WIDTH],
+    count: [u32; WIDTH],
 }
 
 /// A bounding volume hierarchy: the closest hit (or any hit) among many objects without
@@ -68,9 +72,16 @@ pub struct Bvh<T> {
 #[derive(Clone, Debug)]
 pub(crate) struct Tree {
     /// Empty when no object is in the tree.
-    pairs: Vec<Pair>,
+    nodes: Vec<Node>,
     /// What the nodes' bounds are relative to: the centre of the bounded objects' box.
     origin: DVec3,
+    /// Per axis, a bound on the rounding of `origin + bound` in `f64` for every node bound
+    /// (where traversal's `f64` test puts the boxes), and whether every bound lies within
+    /// `2^60` of `origin`; see `traverse::Lanes`, the `f32` test that relies on both.
+    rounding: [f64; 3],
+    compact: bool,
+    /// Levels of nodes (0 for an empty tree): what bounds the traversal's stack.
+    depth: usize,
     /// `order[i]`: the caller's position of the object at position `i` of the tree's
     /// order (bounded objects first, then the unbounded ones).
     pub(crate) order: Vec<u32>,
@@ -81,7 +92,7 @@ pub(crate) struct Tree {
 impl Tree {
     /// Bytes held, for the memory figures.
     pub(crate) fn heap_bytes(&self) -> usize {
-        self.pairs.capacity() * core::mem::size_of::<Pair>()
+        self.nodes.capacity() * core::mem::size_of::<Node>()
             + self.order.capacity() * core::mem::size_of::<u32>()
     }
 }

@@ -1,19 +1,167 @@
 //! Front-to-back traversal with an explicit stack: no recursion, no allocation.
+//!
+//! A node's four boxes are tested together, in `f32` lanes ([`Lanes`]) where the ray and the
+//! tree allow it and in `f64` otherwise ([`entries`]); both are conservative against the
+//! crate's one box test, so that a node never misses a ray its shapes' boxes take.
 
-use super::{Bvh, MAX_DEPTH, Pair, Tree};
+use super::{Bvh, MAX_DEPTH, Node, Tree, WIDTH};
+use glam::{DVec3, Vec3, Vec4};
+
 use crate::aabb::{BoxRay, slab_spans};
 use crate::{Hittable, Interval, Ray};
 
-/// Where the ray enters each of the two siblings within `ray_t` (`+inf`: it misses), by
-/// the crate's one box test, on the world-space bounds `origin + offset` (in `f64`, as the
-/// build rounded them): every shape's own box test on the same ray runs the same
-/// arithmetic on a box inside these, so a node never misses a ray its shapes' boxes take.
+/// Where the ray enters each child within `ray_t` (`+inf`: it misses), by the crate's one
+/// box test, on the world-space bounds `origin + offset` (in `f64`, as the build rounded
+/// them): every shape's own box test on the same ray runs the same arithmetic on a box
+/// inside these, so a node never misses a ray its shapes' boxes take. The reference the
+/// `f32` lanes are held to, and the test for rays they cannot take.
 #[inline(always)]
-fn entries(pair: &Pair, origin: &[f64; 3], ray: &BoxRay, ray_t: Interval) -> [f64; 2] {
-    let world =
-        |axes: &[[f32; 2]; 3]| core::array::from_fn(|k| axes[k].map(|f| origin[k] + f64::from(f)));
-    slab_spans(world(&pair.min), world(&pair.max), ray, ray_t).0
+fn entries(node: &Node, origin: &[f64; 3], ray: &BoxRay, ray_t: Interval) -> [f64; WIDTH] {
+    let world = |bounds: &[[f32; WIDTH]]| {
+        core::array::from_fn(|k| bounds[k].map(|f| origin[k] + f64::from(f)))
+    };
+    slab_spans(
+        world(&node.bounds[..3]),
+        world(&node.bounds[3..]),
+        ray,
+        ray_t,
+    )
+    .0
 }
+
+/// How far each `f32` distance is moved outward, relative to itself: the test's own
+/// rounding (the difference, the product, the reciprocal's rounding to `f32`: three
+/// roundings of `2^-24`) and the `f64` test's (a few of `2^-53`, and its far distance's
+/// padding), with room to spare.
+const RHO: f32 = 1.0 / (1u32 << 20) as f32;
+/// And absolutely: a distance that underflows errs by up to the smallest subnormal.
+const SIGMA: f32 = f32::MIN_POSITIVE;
+
+/// A ray set up for the `f32` test of a node's four boxes, which never rejects a box that
+/// [`entries`] (the `f64` test on the same bounds) accepts, and never reports it entered
+/// later: so the tree still answers as the loop over its objects (the contract's clause 3).
+///
+/// Per axis, the distance to a bound is `(bound - origin) * inv` in `f32`, with the ray's
+/// origin relative to the tree's `origin` rounded *toward* the bound for near distances and
+/// away from it for far ones, after being moved by the rounding of the `f64` test's world
+/// bounds (`Tree::rounding`): the difference is then at most (at least) the one the `f64`
+/// test takes, exactly. What remains are relative errors, a few `2^-24` here and `2^-53`
+/// there, which the entry and exit absorb by moving outward by `RHO` of themselves, and
+/// underflow, by `SIGMA`. The lanes are taken only where nothing overflows: bounds within
+/// `2^60` of the tree's origin, a ray origin within `2^62` of it, and every `|1 / d|` within
+/// `[2^-62, 2^62]` (or infinite, a zero component, whose distances are `±inf` or NaN in
+/// both tests alike), so that every distance stays below `2^125`.
+///
+/// A NaN distance (a ray parallel to a slab, from exactly its plane) is ignored by both
+/// tests' `max`/`min`; an unused lane's empty box gives an infinite entry, and a NaN bound,
+/// which no comparison passes.
+struct Lanes {
+    /// Per axis: the index into `Node::bounds` of the near bound, and of the far one.
+    near: [usize; 3],
+    far: [usize; 3],
+    /// The origin relative to the tree's, rounded for the near bounds and for the far ones,
+    /// and the reciprocal direction, each in all four lanes.
+    origin_near: [Vec4; 3],
+    origin_far: [Vec4; 3],
+    inv: [Vec4; 3],
+    /// `ray_t.min`, rounded down to `f32`.
+    lo: f32,
+}
+
+/// Stack sizes: for trees of depth up to `SHALLOW / (WIDTH - 1)`, and for every tree the
+/// build makes (`MAX_DEPTH` levels at most).
+const SHALLOW: usize = 60;
+const DEEP: usize = (WIDTH - 1) * MAX_DEPTH;
+
+/// Limits within which the `f32` distances cannot overflow (see [`Lanes`]).
+const ORIGIN_LIMIT: f64 = (1u64 << 62) as f64;
+const INV_LIMIT: f64 = (1u64 << 62) as f64;
+
+impl Lanes {
+    /// The ray's lanes, or `None` where it or the tree is past the limits, or `ray_t` has a
+    /// NaN end.
+    #[inline(always)]
+    fn new(tree: &Tree, ray: &Ray, box_ray: &BoxRay, ray_t: Interval) -> Option<Self> {
+        let inv = box_ray.inv_direction;
+        let relative = ray.origin - tree.origin;
+        let magnitude = inv.abs();
+        let inv_ok = magnitude.cmpeq(DVec3::INFINITY)
+            | (magnitude.cmpge(DVec3::splat(1.0 / INV_LIMIT))
+                & magnitude.cmple(DVec3::splat(INV_LIMIT)));
+        // (A NaN relative origin fails the comparison.)
+        let origin_ok = relative.abs().cmple(DVec3::splat(ORIGIN_LIMIT));
+        if !(tree.compact && inv_ok.all() && origin_ok.all())
+            || ray_t.min.is_nan()
+            || ray_t.max.is_nan()
+        {
+            return None;
+        }
+        // The f64 test's bounds round by up to `rounding`, and `relative` by an ulp of
+        // itself; twice both covers them and the rounding of these sums.
+        let slack = 2.0 * (DVec3::from(tree.rounding) + relative.abs() * f64::EPSILON);
+        let (above, below) = (up(relative + slack), down(relative - slack));
+        let mut lanes = Self {
+            near: [0; 3],
+            far: [0; 3],
+            origin_near: [Vec4::ZERO; 3],
+            origin_far: [Vec4::ZERO; 3],
+            inv: [Vec4::ZERO; 3],
+            lo: down(DVec3::splat(ray_t.min.max(-f64::from(f32::MAX)))).x,
+        };
+        for axis in 0..3 {
+            // Toward the bound: a near distance no larger than the f64 test's, a far one
+            // no smaller.
+            let (near, far, origin_near, origin_far) = if box_ray.negative[axis] {
+                (3 + axis, axis, below[axis], above[axis])
+            } else {
+                (axis, 3 + axis, above[axis], below[axis])
+            };
+            lanes.near[axis] = near;
+            lanes.far[axis] = far;
+            lanes.origin_near[axis] = Vec4::splat(origin_near);
+            lanes.origin_far[axis] = Vec4::splat(origin_far);
+            lanes.inv[axis] = Vec4::splat(inv[axis] as f32);
+        }
+        Some(lanes)
+    }
+
+    /// Lower bounds on where the ray enters each child within `[ray_t.min, t_max]` as the
+    /// `f64` test finds it (`+inf`: not even the widened test is passed).
+    #[inline(always)]
+    fn entries(&self, node: &Node, t_max: f64) -> [f32; WIDTH] {
+        let hi = up(DVec3::splat(t_max.min(f64::from(f32::MAX)))).x;
+        let (mut t0, mut t1) = (Vec4::splat(self.lo), Vec4::splat(hi));
+        for axis in 0..3 {
+            let near = Vec4::from_array(node.bounds[self.near[axis]]);
+            let far = Vec4::from_array(node.bounds[self.far[axis]]);
+            let a = (near - self.origin_near[axis]) * self.inv[axis];
+            let b = (far - self.origin_far[axis]) * self.inv[axis];
+            // A NaN distance is ignored, as in the f64 test: `x.max(y)` is `y` when `x` is
+            // NaN (in SSE's `max` and in the scalar `f32::max` alike).
+            t0 = a.max(t0);
+            t1 = b.min(t1);
+        }
+        let entry = t0 - t0.abs() * RHO - Vec4::splat(SIGMA);
+        let exit = t1 + t1.abs() * RHO + Vec4::splat(SIGMA);
+        Vec4::select(entry.cmple(exit), entry, Vec4::INFINITY).to_array()
+    }
+}
+
+/// An `f32` at or above each coordinate of `x` (finite, or past `f32`'s range): `x` grown
+/// by more than half an `f32` ulp before rounding to nearest, branch-free.
+#[inline(always)]
+fn up(x: DVec3) -> Vec3 {
+    (x + x.abs() * f64::from(f32::EPSILON) + DVec3::splat(TINY)).as_vec3()
+}
+
+/// As [`up`], at or below.
+#[inline(always)]
+fn down(x: DVec3) -> Vec3 {
+    (x - x.abs() * f64::from(f32::EPSILON) - DVec3::splat(TINY)).as_vec3()
+}
+
+/// The smallest subnormal `f32`: more than half an ulp for the subnormals.
+const TINY: f64 = 1.401_298_464_324_817e-45;
 
 impl<T: Hittable> Bvh<T> {
     /// Offers `visit` the unbounded objects, then every leaf whose box the ray enters
@@ -54,42 +202,76 @@ impl Tree {
         if unbounded != 0 && visit(self.bounded, unbounded, t_max) {
             return;
         }
-        if self.pairs.is_empty() {
+        if self.nodes.is_empty() {
             return;
         }
-        let ray = BoxRay::new(ray);
-        let origin = self.origin.to_array();
-        // Pending nodes as (index, count, entry distance); at most one per level above the
-        // current node, and the build keeps the depth below MAX_DEPTH.
-        let mut stack = [(0u32, 0u32, 0.0f64); MAX_DEPTH];
+        let box_ray = BoxRay::new(ray);
+        // The stack is cleared on every walk: a small one for trees shallow enough (most).
+        let shallow = (WIDTH - 1) * self.depth <= SHALLOW;
+        match Lanes::new(self, ray, &box_ray, ray_t) {
+            Some(lanes) => {
+                let test = |node: &Node, t_max| lanes.entries(node, t_max);
+                if shallow {
+                    self.descend::<SHALLOW>(t_max, visit, test);
+                } else {
+                    self.descend::<DEEP>(t_max, visit, test);
+                }
+            }
+            None => {
+                let origin = self.origin.to_array();
+                // Entries rounded down: still lower bounds.
+                let test = |node: &Node, t_max| {
+                    entries(node, &origin, &box_ray, Interval::new(ray_t.min, t_max))
+                        .map(|t| down(DVec3::splat(t)).x)
+                };
+                if shallow {
+                    self.descend::<SHALLOW>(t_max, visit, test);
+                } else {
+                    self.descend::<DEEP>(t_max, visit, test);
+                }
+            }
+        }
+    }
+
+    /// The walk itself, with `test` giving (lower bounds on) where the ray enters each
+    /// child of a node before `t_max` (`+inf` where it misses).
+    #[inline(always)]
+    fn descend<const STACK: usize>(
+        &self,
+        t_max: &mut f64,
+        mut visit: impl FnMut(usize, usize, &mut f64) -> bool,
+        test: impl Fn(&Node, f64) -> [f32; WIDTH],
+    ) {
+        // Pending nodes as (index, count, entry distance): at most WIDTH - 1 per level
+        // above the current node, `self.depth` levels at most.
+        let mut stack = [(0u32, 0u32, 0.0f32); STACK];
         let mut pending = 0;
-        // The root is child 0 of pair 0 (beside an empty box): start as its parent would.
         let (mut index, mut count) = (0u32, 0u32);
         loop {
             if count == 0 {
-                let pair = &self.pairs[index as usize];
-                let [ta, tb] = entries(pair, &origin, &ray, Interval::new(ray_t.min, *t_max));
-                let (a, b) = (
-                    (pair.index[0], pair.count[0]),
-                    (pair.index[1], pair.count[1]),
-                );
-                match (ta < f64::INFINITY, tb < f64::INFINITY) {
-                    (true, true) => {
-                        let (near, far, t_far) = if ta <= tb { (a, b, tb) } else { (b, a, ta) };
-                        stack[pending] = (far.0, far.1, t_far);
+                let node = &self.nodes[index as usize];
+                let t = test(node, *t_max);
+                // The children entered, nearest first (an insertion sort of at most four).
+                let mut entered = [(0.0f32, 0u32, 0u32); WIDTH];
+                let mut n = 0;
+                for (k, &t) in t.iter().enumerate() {
+                    if t < f32::INFINITY {
+                        let mut at = n;
+                        while at > 0 && entered[at - 1].0 > t {
+                            entered[at] = entered[at - 1];
+                            at -= 1;
+                        }
+                        entered[at] = (t, node.index[k], node.count[k]);
+                        n += 1;
+                    }
+                }
+                if n > 0 {
+                    for &(t_entry, i, c) in entered[1..n].iter().rev() {
+                        stack[pending] = (i, c, t_entry);
                         pending += 1;
-                        (index, count) = near;
-                        continue;
                     }
-                    (true, false) => {
-                        (index, count) = a;
-                        continue;
-                    }
-                    (false, true) => {
-                        (index, count) = b;
-                        continue;
-                    }
-                    (false, false) => {}
+                    (index, count) = (entered[0].1, entered[0].2);
+                    continue;
                 }
             } else if visit(index as usize, count as usize, t_max) {
                 return;
@@ -101,11 +283,107 @@ impl Tree {
                 }
                 pending -= 1;
                 let (i, c, t_entry) = stack[pending];
-                if t_entry <= *t_max {
+                if f64::from(t_entry) <= *t_max {
                     (index, count) = (i, c);
                     break;
                 }
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{BoxRay, Lanes, Tree, entries};
+    use crate::bvh::build::Shape;
+    use crate::{Aabb, Interval, Ray};
+    use glam::DVec3;
+    use proptest::prelude::*;
+
+    /// A coordinate of a direction: zeros of both signs, and magnitudes from 1e-20 to 1e20
+    /// (past the lanes' limits at both ends, where the f64 test takes over).
+    fn component() -> impl Strategy<Value = f64> {
+        prop_oneof![
+            Just(0.0),
+            Just(-0.0),
+            (-20i32..=20, -1.0f64..1.0).prop_map(|(e, m)| m * 10f64.powi(e)),
+            -1.0f64..1.0,
+        ]
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(400))]
+
+        /// The `f32` lanes never reject a child the `f64` test accepts, nor put its entry
+        /// later, for every node of trees of boxes from 1e-6 to 1e6 wide at offsets up to
+        /// 1e12, and rays from inside, beside (on a box's own bound, parallel to it) and
+        /// far away, with directions of every size and with zero components.
+        #[test]
+        fn lanes_are_conservative_against_the_f64_test(
+            offset in prop_oneof![Just(0.0), Just(1e6), Just(1e9), Just(1e12), Just(-3.7e10)],
+            boxes in prop::collection::vec(
+                (prop::array::uniform3(-1.0f64..1.0), prop::array::uniform3(-6i32..=6)),
+                1..40,
+            ),
+            scale in -3i32..=3,
+            on_bound in any::<bool>(),
+            pick in any::<prop::sample::Index>(),
+            from in prop::array::uniform3(-2.0f64..2.0),
+            far in prop_oneof![Just(1.0), Just(1e3), Just(1e9)],
+            direction in prop::array::uniform3(component()),
+            t_min in prop_oneof![Just(0.0), Just(f64::NEG_INFINITY), Just(-1.0), 0.0f64..1.0],
+            t_max in prop_oneof![Just(f64::INFINITY), 0.0f64..10.0, Just(1e30)],
+        ) {
+            let size = 10f64.powi(scale);
+            let boxes: Vec<Aabb> = boxes
+                .iter()
+                .map(|&(c, e)| {
+                    let c = DVec3::from(c) * size + DVec3::splat(offset);
+                    let half = DVec3::splat(size * 10f64.powi(e[0]) * 0.5)
+                        * DVec3::new(1.0, 10f64.powi(e[1] % 3), 10f64.powi(e[2] % 3));
+                    Aabb::new(c - half, c + half)
+                })
+                .collect();
+            let (tree, _) = Tree::build(boxes.len(), |i| boxes[i], Shape::OBJECTS, false);
+            let mut origin = DVec3::from(from) * size * far + DVec3::splat(offset);
+            let mut direction = DVec3::from(direction);
+            if on_bound {
+                // From exactly a box's bound, parallel to that slab.
+                let b = boxes[pick.index(boxes.len())];
+                origin.x = b.min().x;
+                direction.x = 0.0;
+            }
+            prop_assume!(direction != DVec3::ZERO);
+            let ray = Ray::new(origin, direction);
+            let box_ray = BoxRay::new(&ray);
+            let ray_t = Interval::new(t_min, t_max);
+            let Some(lanes) = Lanes::new(&tree, &ray, &box_ray, ray_t) else {
+                // Only past the limits: every |1/d| in [2^-62, 2^62] or infinite.
+                let within = |inv: f64| {
+                    inv.is_infinite() || (2f64.powi(-62)..=2f64.powi(62)).contains(&inv.abs())
+                };
+                prop_assert!(!box_ray.inv_direction.to_array().into_iter().all(within));
+                return Ok(());
+            };
+            let world = tree.origin.to_array();
+            for node in &tree.nodes {
+                let exact = entries(node, &world, &box_ray, ray_t);
+                let fast = lanes.entries(node, t_max);
+                for k in 0..exact.len() {
+                    if exact[k] < f64::INFINITY {
+                        prop_assert!(
+                            f64::from(fast[k]) <= exact[k],
+                            "lane {k}: f32 entry {} after the f64 test's {}", fast[k], exact[k]
+                        );
+                    }
+                }
+            }
+        }
+    }
+
+    /// The stated constant is the smallest subnormal `f32`.
+    #[test]
+    fn tiny_is_the_smallest_subnormal() {
+        assert_eq!(super::TINY, f64::from(f32::from_bits(1)));
     }
 }
