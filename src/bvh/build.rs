@@ -216,8 +216,8 @@ impl Tree {
                 // most an ulp (2^-52 of it), and twice that leaves room.
                 let (a, b) = (f64::from(lo[axis]), f64::from(hi[axis]));
                 let largest = (origin[axis] + a).abs().max((origin[axis] + b).abs());
-                rounding[axis] = largest * 2f64.powi(-51);
-                compact &= a.abs().max(b.abs()) <= 2f64.powi(60);
+                rounding[axis] = largest * (2.0 * f64::EPSILON);
+                compact &= a.abs().max(b.abs()) <= (1u64 << 60) as f64;
             }
         }
         let bounded = prims.len();
