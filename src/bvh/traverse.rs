@@ -77,6 +77,35 @@ const DEEP: usize = (WIDTH - 1) * MAX_DEPTH;
 const ORIGIN_LIMIT: f64 = (1u64 << 62) as f64;
 const INV_LIMIT: f64 = (1u64 << 62) as f64;
 
+/// A box test of a node's children: (lower bounds on) where the ray enters each within
+/// `[ray_t.min, t_max]` (`+inf` where it misses).
+trait Entries {
+    fn entries(&self, node: &Node, t_max: f64) -> [f32; WIDTH];
+}
+
+/// The `f64` test ([`entries`]) for rays the lanes cannot take.
+struct Reference {
+    origin: [f64; 3],
+    ray: BoxRay,
+    min: f64,
+}
+
+impl Entries for Reference {
+    /// Entries rounded down: still lower bounds.
+    #[inline(always)]
+    fn entries(&self, node: &Node, t_max: f64) -> [f32; WIDTH] {
+        entries(node, &self.origin, &self.ray, Interval::new(self.min, t_max))
+            .map(|t| down(DVec3::splat(t)).x)
+    }
+}
+
+impl Entries for Lanes {
+    #[inline(always)]
+    fn entries(&self, node: &Node, t_max: f64) -> [f32; WIDTH] {
+        self.entries(node, t_max)
+    }
+}
+
 impl Lanes {
     /// The ray's lanes, or `None` where it or the tree is past the limits, or `ray_t` has a
     /// NaN end.
@@ -209,25 +238,18 @@ impl Tree {
         // The stack is cleared on every walk: a small one for trees shallow enough (most).
         let shallow = (WIDTH - 1) * self.depth <= SHALLOW;
         match Lanes::new(self, ray, &box_ray, ray_t) {
-            Some(lanes) => {
-                let test = |node: &Node, t_max| lanes.entries(node, t_max);
-                if shallow {
-                    self.descend::<SHALLOW>(t_max, visit, test);
-                } else {
-                    self.descend::<DEEP>(t_max, visit, test);
-                }
-            }
+            Some(lanes) if shallow => self.descend::<SHALLOW>(t_max, visit, &lanes),
+            Some(lanes) => self.descend::<DEEP>(t_max, visit, &lanes),
             None => {
-                let origin = self.origin.to_array();
-                // Entries rounded down: still lower bounds.
-                let test = |node: &Node, t_max| {
-                    entries(node, &origin, &box_ray, Interval::new(ray_t.min, t_max))
-                        .map(|t| down(DVec3::splat(t)).x)
+                let reference = Reference {
+                    origin: self.origin.to_array(),
+                    ray: box_ray,
+                    min: ray_t.min,
                 };
                 if shallow {
-                    self.descend::<SHALLOW>(t_max, visit, test);
+                    self.descend::<SHALLOW>(t_max, visit, &reference);
                 } else {
-                    self.descend::<DEEP>(t_max, visit, test);
+                    self.descend::<DEEP>(t_max, visit, &reference);
                 }
             }
         }
@@ -240,7 +262,7 @@ impl Tree {
         &self,
         t_max: &mut f64,
         mut visit: impl FnMut(usize, usize, &mut f64) -> bool,
-        test: impl Fn(&Node, f64) -> [f32; WIDTH],
+        test: &impl Entries,
     ) {
         // Pending nodes as (index, count, entry distance): at most WIDTH - 1 per level
         // above the current node, `self.depth` levels at most.
@@ -250,7 +272,7 @@ impl Tree {
         loop {
             if count == 0 {
                 let node = &self.nodes[index as usize];
-                let t = test(node, *t_max);
+                let t = test.entries(node, *t_max);
                 // The children entered, nearest first (an insertion sort of at most four).
                 let mut entered = [(0.0f32, 0u32, 0u32); WIDTH];
                 let mut n = 0;
