@@ -7,7 +7,7 @@ use alloc::sync::Arc;
 
 use glam::{DVec2, DVec3};
 
-use crate::{Aabb, HitRecord, Interval, Ray};
+use crate::{Aabb, Found, HitRecord, Interval, Ray};
 
 /// Something a ray can hit. Object safe: scenes mix shapes as `Box<dyn Hittable>`.
 ///
@@ -43,6 +43,38 @@ pub trait Hittable: Send + Sync {
     fn occluded(&self, ray: &Ray, ray_t: Interval) -> bool {
         self.hit(ray, ray_t).is_some()
     }
+
+    /// The closest crossing with `t` in `ray_t`, without its record: the first half of
+    /// [`hit`](Hittable::hit), which a closest-hit search (a list, a [`Bvh`](crate::Bvh))
+    /// calls on every candidate, building the record only for the winner with
+    /// [`record`](Hittable::record) (pbrt-v4 splits `Intersect` from
+    /// `InteractionFromIntersection` for the same reason).
+    ///
+    /// The two halves must agree with `hit`: `find` is `Some` with `t` exactly when `hit` is
+    /// `Some` with that `t`, and `record` then returns that hit. The default implementations
+    /// keep this by calling `hit` (the record is built, then asked for again by `record`):
+    /// a shape whose record is costly overrides both.
+    ///
+    /// ```
+    /// use hitkit::glam::DVec3;
+    /// use hitkit::{Hittable, Interval, Quad, Ray};
+    ///
+    /// let quad = Quad::new(DVec3::new(-1.0, -1.0, 0.0), DVec3::X * 2.0, DVec3::Y * 2.0).unwrap();
+    /// let ray = Ray::new(DVec3::new(0.5, 0.0, 2.0), DVec3::NEG_Z);
+    /// let found = quad.find(&ray, Interval::FORWARD).unwrap();
+    /// let hit = quad.record(&ray, Interval::FORWARD, &found).unwrap();
+    /// assert_eq!(Some(hit), quad.hit(&ray, Interval::FORWARD));
+    /// ```
+    fn find(&self, ray: &Ray, ray_t: Interval) -> Option<Found> {
+        self.hit(ray, ray_t).map(|hit| Found::at(hit.t))
+    }
+
+    /// The record of `found`, which [`find`](Hittable::find) returned for the same `ray`
+    /// and `ray_t` (or for `ray_t` with a larger `max`: a search lowers it as it goes).
+    /// `None` only where the record cannot be made (its point past f64's range).
+    fn record(&self, ray: &Ray, ray_t: Interval, found: &Found) -> Option<HitRecord> {
+        self.hit(ray, Interval::new(ray_t.min, found.t))
+    }
 }
 
 /// A hittable that can be sampled: the interface of lights in a path tracer.
@@ -74,6 +106,14 @@ macro_rules! forward_through {
             #[inline]
             fn occluded(&self, ray: &Ray, ray_t: Interval) -> bool {
                 (**self).occluded(ray, ray_t)
+            }
+            #[inline]
+            fn find(&self, ray: &Ray, ray_t: Interval) -> Option<Found> {
+                (**self).find(ray, ray_t)
+            }
+            #[inline]
+            fn record(&self, ray: &Ray, ray_t: Interval, found: &Found) -> Option<HitRecord> {
+                (**self).record(ray, ray_t, found)
             }
         }
 

@@ -134,7 +134,7 @@ pub use moving::Moving;
 pub use plane::{CrossingRegion, Plane, PlaneHit};
 pub use quad::Quad;
 pub use ray::Ray;
-pub use record::{HitRecord, MaterialId};
+pub use record::{Found, HitRecord, MaterialId};
 pub use sphere::Sphere;
 pub use transform::Transformed;
 

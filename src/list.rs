@@ -2,21 +2,28 @@
 
 use alloc::vec::Vec;
 
-use crate::{Aabb, HitRecord, Hittable, Interval, Ray};
+use crate::{Aabb, Found, HitRecord, Hittable, Interval, Ray};
 
 impl<T: Hittable> Hittable for [T] {
+    /// Finds the closest crossing with [`Hittable::find`] and builds the record of that one
+    /// alone.
     fn hit(&self, ray: &Ray, ray_t: Interval) -> Option<HitRecord> {
-        let mut closest: Option<HitRecord> = None;
-        for object in self {
-            let max = closest.map_or(ray_t.max, |h| h.t);
-            if let Some(h) = object.hit(ray, Interval::new(ray_t.min, max)) {
+        let mut closest: Option<(usize, Found)> = None;
+        for (index, object) in self.iter().enumerate() {
+            let max = closest.map_or(ray_t.max, |(_, f)| f.t);
+            if let Some(f) = object.find(ray, Interval::new(ray_t.min, max))
                 // Of hits at exactly the same t, the first object's stands.
-                if closest.is_none_or(|c| h.t < c.t) {
-                    closest = Some(h);
-                }
+                && closest.is_none_or(|(_, c)| f.t < c.t)
+            {
+                closest = Some((index, f));
             }
         }
-        closest
+        let (index, found) = closest?;
+        // A record that cannot be made (past f64's range) is no hit: ask again, record by
+        // record, as the objects' own `hit` would answer.
+        self[index]
+            .record(ray, ray_t, &found)
+            .or_else(|| hit_by_records(self, ray, ray_t))
     }
 
     fn bounding_box(&self) -> Aabb {
@@ -27,6 +34,21 @@ impl<T: Hittable> Hittable for [T] {
     fn occluded(&self, ray: &Ray, ray_t: Interval) -> bool {
         self.iter().any(|o| o.occluded(ray, ray_t))
     }
+}
+
+/// The closest hit by every object's [`Hittable::hit`].
+#[cold]
+fn hit_by_records<T: Hittable>(objects: &[T], ray: &Ray, ray_t: Interval) -> Option<HitRecord> {
+    let mut closest: Option<HitRecord> = None;
+    for object in objects {
+        let max = closest.map_or(ray_t.max, |h| h.t);
+        if let Some(h) = object.hit(ray, Interval::new(ray_t.min, max))
+            && closest.is_none_or(|c| h.t < c.t)
+        {
+            closest = Some(h);
+        }
+    }
+    closest
 }
 
 impl<T: Hittable> Hittable for Vec<T> {

@@ -7,8 +7,8 @@ use crate::light::{Spherical, View, reaching, toward_middle};
 use crate::math::{gamma, unit_and_length};
 use crate::plane::Crossing;
 use crate::{
-    Aabb, GeometryError, HitRecord, Hittable, Interior, Interval, MaterialId, Meets, Parallelogram,
-    PdfHittable, Plane, PlaneHit, Polygon, Ray, SampleInterior, Sampling,
+    Aabb, Found, GeometryError, HitRecord, Hittable, Interior, Interval, MaterialId, Meets,
+    Parallelogram, PdfHittable, Plane, PlaneHit, Polygon, Ray, SampleInterior, Sampling,
 };
 
 /// A planar shape: a [`Plane`] finds `(t, alpha, beta)`, an [`Interior`] predicate decides
@@ -120,21 +120,24 @@ impl<S: Interior> Quad<S> {
         &self.shape
     }
 
-    /// The record of the decided crossing `hit`. A `t` that rounding put before or past the
+    /// The decided crossing `hit`, settled: a `t` that rounding put before or past the
     /// box moves onto it, so that a `Bvh` (whose boxes contain this one) finds every hit a
     /// loop over the shapes finds; only then is it compared with `ray_t`.
     ///
-    /// The point, too, stays in the box: a crossing decided near an edge may lie beside the
+    /// The record's point, too, stays in the box ([`Quad::build`]): a crossing decided near an edge may lie beside the
     /// shape by as much as the region's width, which for a grazing ray on a plane of
     /// extreme edges can pass the box's margin. It moves onto the box (toward the shape,
     /// which the box holds), and its error bound grows by the move, so that the point on
     /// the plane it was computed as still lies within it.
     #[inline(always)]
-    fn record(&self, ray: &Ray, ray_t: Interval, mut hit: PlaneHit) -> Option<HitRecord> {
+    fn settle(&self, ray: &Ray, ray_t: Interval, mut hit: PlaneHit) -> Option<PlaneHit> {
         hit.t = self.bbox.clamp_hit(ray, Interval::UNIVERSE, hit.t)?;
-        if !ray_t.contains(hit.t) {
-            return None;
-        }
+        ray_t.contains(hit.t).then_some(hit)
+    }
+
+    /// The record of a settled crossing (see [`Quad::settle`]).
+    #[inline(always)]
+    fn build(&self, ray: &Ray, hit: PlaneHit) -> Option<HitRecord> {
         let mut record = self
             .plane
             .hit_record(ray, hit, self.shape.uv(hit.alpha, hit.beta))?;
@@ -163,12 +166,13 @@ fn reach_beyond(plane: &Plane) -> f64 {
     (plane.tolerance() + plane.frame_reach()) * (1.0 + gamma(4))
 }
 
-impl<S: Interior> Hittable for Quad<S> {
+impl<S: Interior> Quad<S> {
+    /// The decided and settled crossing, if the ray hits the shape with `t` in `ray_t`.
     /// The reported `t` depends on the ray alone, never on `ray_t.max` (which a `Bvh` or a
     /// list lowers as it finds hits): it is decided, moved into the box's span along the
     /// whole ray, and only then compared with `ray_t`.
-    #[inline]
-    fn hit(&self, ray: &Ray, ray_t: Interval) -> Option<HitRecord> {
+    #[inline(always)]
+    fn decide(&self, ray: &Ray, ray_t: Interval) -> Option<PlaneHit> {
         let plane = &self.plane;
         // Whatever the decision below, the reported t is at least t - 3 reach (the refined
         // crossing's own reach is no larger than this one's): `crossing` rejects a t past
@@ -180,7 +184,7 @@ impl<S: Interior> Hittable for Quad<S> {
             .coordinate_bounds()
             .map(|bounds| (bounds, self.shape.fills_coordinate_bounds()));
         let (mut hit, region) = match plane.crossing(ray, ray_t, window)? {
-            Crossing::Inside(hit) => return self.record(ray, ray_t, hit),
+            Crossing::Inside(hit) => return self.settle(ray, ray_t, hit),
             Crossing::Region(hit, region) => (hit, region),
         };
         match self.shape.meets(&region) {
@@ -208,12 +212,36 @@ impl<S: Interior> Hittable for Quad<S> {
                 };
             }
         }
-        self.record(ray, ray_t, hit)
+        self.settle(ray, ray_t, hit)
+    }
+}
+
+impl<S: Interior> Hittable for Quad<S> {
+    #[inline]
+    fn hit(&self, ray: &Ray, ray_t: Interval) -> Option<HitRecord> {
+        self.build(ray, self.decide(ray, ray_t)?)
     }
 
     #[inline]
     fn bounding_box(&self) -> Aabb {
         self.bbox
+    }
+
+    /// The crossing's `(alpha, beta)` in `coords`.
+    #[inline]
+    fn find(&self, ray: &Ray, ray_t: Interval) -> Option<Found> {
+        let hit = self.decide(ray, ray_t)?;
+        Some(Found {
+            t: hit.t,
+            coords: DVec3::new(hit.alpha, hit.beta, 0.0),
+            part: 0,
+        })
+    }
+
+    #[inline]
+    fn record(&self, ray: &Ray, _: Interval, found: &Found) -> Option<HitRecord> {
+        let (t, alpha, beta) = (found.t, found.coords.x, found.coords.y);
+        self.build(ray, PlaneHit { t, alpha, beta })
     }
 }
 

@@ -655,6 +655,15 @@ proptest! {
                 prop_assert!(spawned.origin.is_finite());
             }
             prop_assert_eq!(object.occluded(&ray, interval), hit.is_some(), "light {}", i);
+            // The two-step search agrees with `hit`: a crossing found is the hit's, and its
+            // record the hit; only a record past f64's range may be found and not made.
+            let found = object.find(&ray, interval);
+            if let Some(h) = hit {
+                prop_assert_eq!(found.map(|f| f.t), Some(h.t), "light {}", i);
+            }
+            if let Some(f) = found {
+                prop_assert_eq!(object.record(&ray, interval, &f), hit, "light {}", i);
+            }
             let pdf = object.pdf_value(o, d);
             prop_assert!(pdf.is_finite() && pdf >= 0.0, "pdf {}", pdf);
             let sample = object.sample_direction(o, DVec2::new(ux, uy));
@@ -668,6 +677,15 @@ proptest! {
                 prop_assert!(in_box(&h, &object.bounding_box()), "{:?} {:?}", h, object.bounding_box());
             }
             prop_assert_eq!(object.occluded(&ray, interval), hit.is_some(), "shape {}", i);
+            // The two-step search agrees with `hit`: a crossing found is the hit's, and its
+            // record the hit; only a record past f64's range may be found and not made.
+            let found = object.find(&ray, interval);
+            if let Some(h) = hit {
+                prop_assert_eq!(found.map(|f| f.t), Some(h.t), "shape {}", i);
+            }
+            if let Some(f) = found {
+                prop_assert_eq!(object.record(&ray, interval, &f), hit, "shape {}", i);
+            }
         }
         if !objects.is_empty() {
             let lights: Vec<&dyn PdfHittable> = objects.iter().map(|o| o.as_ref()).collect();
@@ -680,7 +698,12 @@ proptest! {
         // Every shape in one tree: it answers as the loop, and `occluded` as `hit`.
         hittables.extend(objects.into_iter().map(|o| Box::new(o) as Box<dyn Hittable>));
         let found = hittables.iter().any(|o| o.hit(&ray, interval).is_some());
+        // The list and the tree, which record only the closest crossing they find, answer
+        // as the loop of every object's `hit`.
+        let expect = brute_force(&hittables, &ray, interval);
+        prop_assert_eq!(hittables.hit(&ray, interval), expect.map(|(_, h)| h));
         let bvh = Bvh::new(hittables);
+        prop_assert_eq!(bvh.hit_with_index(&ray, interval), expect);
         prop_assert!(box_ok(&bvh.bounding_box()));
         let hit = bvh.hit(&ray, interval);
         if let Some(h) = hit {

@@ -10,7 +10,7 @@ use alloc::vec::Vec;
 
 use glam::DVec3;
 
-use crate::{Aabb, HitRecord, Hittable, Interval, Ray};
+use crate::{Aabb, Found, HitRecord, Hittable, Interval, Ray};
 
 /// Deepest a tree gets; the traversal stack has this many entries. The build switches to
 /// median splits (which halve the count) well before it: see `build::MEDIAN_FROM_DEPTH`.
@@ -154,6 +154,33 @@ impl<T: Hittable> Bvh<T> {
     /// for a slice.
     #[must_use]
     pub fn hit_with_index(&self, ray: &Ray, ray_t: Interval) -> Option<(usize, HitRecord)> {
+        // Crossings by `find`; the record of the closest alone.
+        let mut closest: Option<(usize, usize, Found)> = None;
+        let mut t_max = ray_t.max;
+        self.walk(ray, ray_t, &mut t_max, |objects, first, t_max| {
+            for (k, (object, &index)) in objects.iter().zip(&self.tree.order[first..]).enumerate() {
+                let index = index as usize;
+                if let Some(found) = object.find(ray, Interval::new(ray_t.min, *t_max))
+                    && (found.t < *t_max || closest.is_none_or(|(best, _, _)| index < best))
+                {
+                    *t_max = found.t;
+                    closest = Some((index, first + k, found));
+                }
+            }
+            false
+        });
+        let (index, position, found) = closest?;
+        match self.objects[position].record(ray, ray_t, &found) {
+            Some(hit) => Some((index, hit)),
+            // A record that cannot be made (past f64's range) is no hit: ask again, as the
+            // objects' own `hit` would answer.
+            None => self.hit_by_records(ray, ray_t),
+        }
+    }
+
+    /// [`Bvh::hit_with_index`] by every object's [`Hittable::hit`].
+    #[cold]
+    fn hit_by_records(&self, ray: &Ray, ray_t: Interval) -> Option<(usize, HitRecord)> {
         let mut closest: Option<(usize, HitRecord)> = None;
         let mut t_max = ray_t.max;
         self.walk(ray, ray_t, &mut t_max, |objects, first, t_max| {

@@ -94,8 +94,13 @@ impl Entries for Reference {
     /// Entries rounded down: still lower bounds.
     #[inline(always)]
     fn entries(&self, node: &Node, t_max: f64) -> [f32; WIDTH] {
-        entries(node, &self.origin, &self.ray, Interval::new(self.min, t_max))
-            .map(|t| down(DVec3::splat(t)).x)
+        entries(
+            node,
+            &self.origin,
+            &self.ray,
+            Interval::new(self.min, t_max),
+        )
+        .map(|t| down(DVec3::splat(t)).x)
     }
 }
 

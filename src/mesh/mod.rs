@@ -10,7 +10,7 @@ use glam::{DVec2, DVec3};
 
 use crate::bvh::{Shape, Tree};
 use crate::math::{gamma, unit_and_length};
-use crate::{Aabb, GeometryError, HitRecord, Hittable, Interval, MaterialId, Ray};
+use crate::{Aabb, Found, GeometryError, HitRecord, Hittable, Interval, MaterialId, Ray};
 
 use intersect::{Crossing, Sheared};
 
@@ -293,7 +293,7 @@ impl TriangleMesh {
         // Away from f64's end the hit's point and error bound cannot overflow (the weights
         // sum to one, the bound is a few ulps of three such terms); near it, only a
         // crossing whose record can be made counts, so that `occluded` answers as `hit`.
-        if self.near_overflow && self.point(position, &crossing).is_none() {
+        if self.near_overflow && self.point(position, crossing.barycentric).is_none() {
             return None;
         }
         Some(crossing)
@@ -302,9 +302,8 @@ impl TriangleMesh {
     /// The point of `crossing` on the face at `position`, and its error bound; `None` where
     /// either overflows.
     #[inline]
-    fn point(&self, position: usize, crossing: &Crossing) -> Option<(DVec3, DVec3)> {
+    fn point(&self, position: usize, b: DVec3) -> Option<(DVec3, DVec3)> {
         let [p0, p1, p2] = self.corners_at(position);
-        let b = crossing.barycentric;
         let (w0, w1, w2) = (b.x * p0, b.y * p1, b.z * p2);
         let point = w0 + w1 + w2;
         // pbrt-v4 (`Triangle::InteractionFromIntersection`): the weights sum to one to
@@ -339,11 +338,10 @@ impl TriangleMesh {
     }
 
     /// The hit record of `crossing` of the face at `position`.
-    fn record(&self, ray: &Ray, position: usize, crossing: &Crossing) -> Option<HitRecord> {
+    fn record_at(&self, ray: &Ray, position: usize, t: f64, b: DVec3) -> Option<HitRecord> {
         let face = self.triangles[position];
         let [p0, p1, p2] = self.corners_at(position);
-        let b = crossing.barycentric;
-        let (point, point_error) = self.point(position, crossing)?;
+        let (point, point_error) = self.point(position, b)?;
         let (normal, _) = unit_and_length((p1 - p0).cross(p2 - p0));
         let uv = if self.uvs.is_empty() {
             DVec2::new(b.y, b.z)
@@ -351,7 +349,7 @@ impl TriangleMesh {
             let [a, c, d] = face.map(|i| self.uvs[i as usize]);
             b.x * a + b.y * c + b.z * d
         };
-        let mut record = HitRecord::new(ray, crossing.t, point, normal)
+        let mut record = HitRecord::new(ray, t, point, normal)
             .with_point_error(point_error)
             .with_uv(uv)
             .with_material(self.material)
@@ -370,7 +368,24 @@ impl TriangleMesh {
 impl Hittable for TriangleMesh {
     fn hit(&self, ray: &Ray, ray_t: Interval) -> Option<HitRecord> {
         let (position, crossing) = self.closest(ray, ray_t)?;
-        self.record(ray, position, &crossing)
+        self.record_at(ray, position, crossing.t, crossing.barycentric)
+    }
+
+    /// The face's barycentrics in `coords`, its position in the tree's order in `part`.
+    fn find(&self, ray: &Ray, ray_t: Interval) -> Option<Found> {
+        let (position, crossing) = self.closest(ray, ray_t)?;
+        Some(Found {
+            t: crossing.t,
+            coords: crossing.barycentric,
+            part: position as u32,
+        })
+    }
+
+    /// `None` for a `found` naming no face of this mesh.
+    fn record(&self, ray: &Ray, _: Interval, found: &Found) -> Option<HitRecord> {
+        let position = found.part as usize;
+        (position < self.triangles.len())
+            .then(|| self.record_at(ray, position, found.t, found.coords))?
     }
 
     /// The box of the vertices of the hittable faces.
@@ -437,7 +452,9 @@ impl Face<'_> {
     pub fn hit_barycentric(&self, ray: &Ray, ray_t: Interval) -> Option<(HitRecord, DVec3)> {
         let sheared = Sheared::new(ray)?;
         let crossing = self.mesh.cross(&sheared, ray, ray_t, self.position)?;
-        let record = self.mesh.record(ray, self.position, &crossing)?;
+        let record = self
+            .mesh
+            .record_at(ray, self.position, crossing.t, crossing.barycentric)?;
         Some((record, crossing.barycentric))
     }
 }
