@@ -9,6 +9,7 @@ use alloc::vec::Vec;
 use glam::{DVec3, Vec4};
 
 use super::{Bvh, MAX_DEPTH, Node, Tree, WIDTH};
+use crate::math::Dd;
 use crate::{Aabb, Hittable};
 
 /// Centroid bins per axis.
@@ -160,16 +161,13 @@ impl Tree {
         // The centre of the bounded objects' box: nodes store their bounds relative to it,
         // so that f32 keeps its precision however far from the world's origin the scene
         // sits.
+        // Not rounded to f32's precision: at 1e12 that would move it by up to 2^15, and
+        // every offset's f32 resolution with it (to 2^-9, coarser than a small mesh's
+        // triangles there). From the f64 centre, a box coordinate of a scene far from the
+        // world's origin is a short exact difference, which f32 holds exactly, and
+        // `origin + offset` gives the coordinate back without rounding.
         let origin = if bounded.is_bounded() {
-            let centre = 0.5 * bounded.min() + 0.5 * bounded.max();
-            // Rounded to f32's precision where it has it, so that differences from it stay
-            // exact more often.
-            let rounded = centre.as_vec3();
-            if rounded.is_finite() {
-                rounded.as_dvec3()
-            } else {
-                centre
-            }
+            0.5 * bounded.min() + 0.5 * bounded.max()
         } else {
             DVec3::ZERO
         };
@@ -212,12 +210,22 @@ impl Tree {
             depth = collapse(&builder.pairs, root, &mut nodes);
             let (lo, hi) = (extent.bounds.min, extent.bounds.max);
             for axis in 0..3 {
-                // Every node's bounds lie within the root's; `origin + bound` rounds by at
-                // most an ulp (2^-52 of it), and twice that leaves room.
+                // Every node's bounds lie within the root's.
                 let (a, b) = (f64::from(lo[axis]), f64::from(hi[axis]));
-                let largest = (origin[axis] + a).abs().max((origin[axis] + b).abs());
-                rounding[axis] = largest * (2.0 * f64::EPSILON);
                 compact &= a.abs().max(b.abs()) <= (1u64 << 60) as f64;
+            }
+            // How far `origin + bound` rounds, bound by bound (exactly, by two-sum): mostly
+            // not at all, since the build picks offsets whose sum lands on the box's own
+            // coordinates; but an ulp of the origin where it cannot (about 1e-4 at 1e12),
+            // which a bound from the magnitudes alone would charge every node.
+            for node in &nodes {
+                for (side, bounds) in node.bounds.iter().enumerate() {
+                    let axis = side % 3;
+                    for &f in bounds.iter().filter(|f| f.is_finite()) {
+                        let error = Dd::diff(origin[axis], -f64::from(f)).lo.abs();
+                        rounding[axis] = f64::max(rounding[axis], error);
+                    }
+                }
             }
         }
         let bounded = prims.len();

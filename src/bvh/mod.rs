@@ -75,7 +75,7 @@ pub(crate) struct Tree {
     nodes: Vec<Node>,
     /// What the nodes' bounds are relative to: the centre of the bounded objects' box.
     origin: DVec3,
-    /// Per axis, a bound on the rounding of `origin + bound` in `f64` for every node bound
+    /// Per axis, the largest rounding of `origin + bound` in `f64` over the node bounds
     /// (where traversal's `f64` test puts the boxes), and whether every bound lies within
     /// `2^60` of `origin`; see `traverse::Lanes`, the `f32` test that relies on both.
     rounding: [f64; 3],
