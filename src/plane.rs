@@ -85,8 +85,10 @@ enum Clearly {
 /// for the clear decision and the region both: the reach's numerator before its `t` and
 /// tolerance terms (`gamma(4) |q - o|_1 + gamma(3) |t| |d|_1 + e (|p|_1 + across)`), the
 /// error across the ray before the frame's, the tolerance and the drift, the slack (the
-/// height gained per unit of `t`, less its error), `c = |n.d|`, `|d|_1`, and `along` (the
-/// change of `(alpha, beta)` per unit of `t`).
+/// height gained per unit of `t`, less its error), `c = |n.d|` and `|d|_1`. The change of
+/// `(alpha, beta)` per unit of `t` (the region's `along`, two dot products) is left to the
+/// region, which most crossings never need: the clear decision bounds it by `|d|_1` times
+/// the coordinate scale.
 #[derive(Clone, Copy)]
 struct Parts {
     numerator: f64,
@@ -94,7 +96,6 @@ struct Parts {
     slack: f64,
     c: f64,
     d1: f64,
-    along: DVec2,
 }
 
 /// Where the exact crossing of a ray with a plane can lie, in `(alpha, beta)`, given the
@@ -406,7 +407,7 @@ impl Plane {
         if !((alpha.abs() < f64::INFINITY) & (beta.abs() < f64::INFINITY)) {
             return None;
         }
-        Some(Crossing::Region(hit, self.finish(&hit, &parts, reach)))
+        Some(Crossing::Region(hit, self.finish(ray, &hit, &parts, reach)))
     }
 
     /// Whether the region [`Plane::crossing_region`] would compute for the crossing `hit`
@@ -416,7 +417,11 @@ impl Plane {
     /// `reach (|w| + gamma(3) d1 s) + world s + gamma(3) |center|` from its centre per
     /// coordinate (`w` its `along`, `s` the coordinate scale: the half-length, then the
     /// radius with the drift over the reach and the rounding of evaluating the segment,
-    /// grown by `1 + gamma(16)`), and `reach <= height / slack`, where `height` is the
+    /// grown by `1 + gamma(16)`). The computed `|w| = |d.(v x w)|` is at most
+    /// `(1 + gamma(3)) |d|_1 |v x w|_inf`, and `s`, the computed `|v x w|_1`, at least
+    /// `(1 - gamma(2))` of that, and the computed `d1` is within `gamma(2)` of itself: so
+    /// `|w| + gamma(3) d1 s <= (1 + gamma(10)) d1 s`, with no dot product. (Loose only where `along` is small, a ray steep to the
+    /// plane, whose reach is small too.) And `reach <= height / slack`, where `height` is the
     /// reach's numerator with the tolerance's term at its largest (`tolerance / slack`).
     /// Doubling both terms leaves room for every rounding here and in the region by a
     /// factor near 2, so a crossing this test finds clearly outside (inside) is one the
@@ -438,7 +443,7 @@ impl Plane {
         let mut inside = true;
         for i in 0..2 {
             let (scale, x) = (self.coordinate_scale[i], center[i]);
-            let rate = 2.0 * height * (p.along[i].abs() + gamma(3) * p.d1 * scale);
+            let rate = 2.0 * height * (1.0 + gamma(10)) * p.d1 * scale;
             let fixed = 2.0 * (world * scale + gamma(3) * x.abs());
             if ((lo[i] - x).max(x - hi[i]) - fixed) * slack > rate {
                 return Some(Clearly::Outside);
@@ -460,7 +465,7 @@ impl Plane {
         c: f64,
     ) -> CrossingRegion {
         let parts = self.parts(ray, hit.t, q_minus_o, p, c);
-        self.finish(hit, &parts, self.reach(&parts, hit.t))
+        self.finish(ray, hit, &parts, self.reach(&parts, hit.t))
     }
 
     /// The [`Parts`] of a crossing, from `q - o`, the point `p` and `c = |n.d|` as computed.
@@ -476,15 +481,19 @@ impl Plane {
             slack: c - (gamma(3) + self.frame_error) * d1,
             c,
             d1,
-            // A product past f64's range sums to `inf - inf`: the change is too large to
-            // represent, and reported as infinite (the segment is symmetric, so its sign
-            // does not matter), never as NaN.
-            along: DVec2::new(
-                ray.direction.dot(self.to_alpha),
-                ray.direction.dot(self.to_beta),
-            )
-            .map(|x| if x.is_nan() { f64::INFINITY } else { x }),
         }
+    }
+
+    /// The change of `(alpha, beta)` per unit of `t` along `ray`. A product past f64's
+    /// range sums to `inf - inf`: the change is too large to represent, and reported as
+    /// infinite (the segment is symmetric, so its sign does not matter), never as NaN.
+    #[inline(always)]
+    fn along(&self, ray: &Ray) -> DVec2 {
+        DVec2::new(
+            ray.direction.dot(self.to_alpha),
+            ray.direction.dot(self.to_beta),
+        )
+        .map(|x| if x.is_nan() { f64::INFINITY } else { x })
     }
 
     /// The reach along the ray, in units of `t` (see [`Plane::crossing_region`]): its
@@ -508,14 +517,14 @@ impl Plane {
 
     /// The region from its reach: the drift over the reach, and the radius.
     #[inline(always)]
-    fn finish(&self, hit: &PlaneHit, p: &Parts, reach: f64) -> CrossingRegion {
+    fn finish(&self, ray: &Ray, hit: &PlaneHit, p: &Parts, reach: f64) -> CrossingRegion {
         let drift = if reach < f64::INFINITY {
             reach * gamma(3) * p.d1
         } else {
             f64::INFINITY
         };
         let world = p.across + self.frame_reach() + self.tolerance + drift;
-        self.region(hit, p.along, reach, world * self.coordinate_scale)
+        self.region(hit, self.along(ray), reach, world * self.coordinate_scale)
     }
 
     /// The tolerance along the ray, in units of `t`: as far as the ray goes while its
