@@ -99,21 +99,25 @@ pub fn random_unit_vector(rng: &mut SmallRng) -> DVec3 {
     DVec3::new(r * c, r * s, z)
 }
 
-/// A direction around `normal` with density `cos / pi` (Malley's method: a uniform point of
-/// the unit disk, lifted to the hemisphere; the disk point by rejection, which needs no
-/// trigonometry).
+/// A direction around the unit `normal` with density `cos / pi`, not normalized: `normal`
+/// plus a uniform point of the unit sphere (whose sum is cosine-distributed about it), the
+/// sphere's point by Marsaglia's method (1972: a uniform point of the unit disk, found by
+/// rejection, lifted), so that neither trigonometry nor a frame around the normal (a
+/// division) is needed. The sum is never zero: a sphere point at exactly `-normal` (a
+/// measure-zero draw) gives `normal` instead.
 #[inline]
 pub fn cosine_direction(normal: DVec3, rng: &mut SmallRng) -> DVec3 {
-    let (x, y) = loop {
+    let (x, y, s) = loop {
         let (x, y) = (
             2.0 * rng.random::<f64>() - 1.0,
             2.0 * rng.random::<f64>() - 1.0,
         );
-        if x * x + y * y < 1.0 {
-            break (x, y);
+        let s = x * x + y * y;
+        if s < 1.0 {
+            break (x, y, s);
         }
     };
-    let z = (1.0 - x * x - y * y).sqrt();
-    let (t, b) = normal.any_orthonormal_pair();
-    x * t + y * b + z * normal
+    let lift = 2.0 * (1.0 - s).sqrt();
+    let d = normal + DVec3::new(x * lift, y * lift, 1.0 - 2.0 * s);
+    if d == DVec3::ZERO { normal } else { d }
 }
