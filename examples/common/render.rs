@@ -182,9 +182,9 @@ fn radiance<W: Hittable, const BG: bool, const EMIT: bool, const LIGHTS: bool>(
         };
         let material = &scene.materials[hit.material.0 as usize];
         if EMIT {
-            color += throughput * material.emitted(&hit);
+            color += throughput * material.emitted(hit);
         }
-        let direction = match material.scatter(ray.direction, &hit, rng) {
+        let direction = match material.scatter(ray.direction, hit, rng) {
             Scatter::None => break,
             Scatter::Specular(direction, attenuation) => {
                 throughput *= attenuation;
