@@ -490,3 +490,90 @@ fn the_parallel_build_makes_the_same_tree() {
     let (a, b) = (Bvh::new(triangles.clone()), Bvh::new_parallel(triangles));
     assert!((0..a.len()).all(|i| a.original_index(i) == b.original_index(i)));
 }
+
+/// A mesh of unrelated triangles in the caller's own (random) order, with vertices shared
+/// at random, some never used, and degenerate faces: the mesh keeps its vertices in the
+/// order its tree meets them, and what the caller numbered must stay the caller's.
+fn shuffled_mesh(seed: u64) -> (Vec<DVec3>, Vec<[u32; 3]>, TriangleMesh) {
+    let mut rng = SplitMix::new(seed);
+    let vertices: Vec<DVec3> = (0..300).map(|_| 10.0 * rng.vec3()).collect();
+    let mut faces: Vec<[u32; 3]> = (0..400)
+        .map(|_| [0; 3].map(|_| (rng.next_u64() % 280) as u32))
+        .collect();
+    faces.push([7, 7, 9]); // degenerate
+    let mesh = TriangleMesh::new(&vertices, &faces).unwrap();
+    (vertices, faces, mesh)
+}
+
+/// Each face's indices are the caller's, its corners the caller's vertices at them, and
+/// normals and uvs given per caller vertex are interpolated from those same vertices.
+#[test]
+fn faces_keep_the_callers_numbering_in_the_meshs_order() {
+    let (vertices, faces, mesh) = shuffled_mesh(71);
+    let normals: Vec<DVec3> = (0..vertices.len())
+        .map(|i| DVec3::new(1.0, i as f64, -0.5 * i as f64).normalize())
+        .collect();
+    let uvs: Vec<DVec2> = (0..vertices.len())
+        .map(|i| DVec2::new(i as f64, (i * i) as f64))
+        .collect();
+    let mesh = mesh.with_normals(&normals).unwrap().with_uvs(&uvs).unwrap();
+    assert!(mesh.vertices().len() <= 280);
+    let mut hits = 0;
+    for face in mesh.faces() {
+        let indices = face.indices();
+        assert_eq!(indices, faces[face.index() as usize]);
+        assert_eq!(face.corners(), indices.map(|i| vertices[i as usize]));
+        // Toward the centroid, from off the face's plane.
+        let [a, b, c] = face.corners();
+        let centroid = (a + b + c) / 3.0;
+        let normal = (b - a).cross(c - a).normalize();
+        let ray = Ray::new(centroid + normal, -normal);
+        let Some((hit, w)) = face.hit_barycentric(&ray, FORWARD) else {
+            continue; // a sliver whose centroid rounding puts beside it
+        };
+        hits += 1;
+        let [i, j, k] = indices.map(|i| i as usize);
+        assert_eq!(hit.uv, w.x * uvs[i] + w.y * uvs[j] + w.z * uvs[k]);
+        let shading = (w.x * normals[i] + w.y * normals[j] + w.z * normals[k]).normalize();
+        let expected = if shading.dot(hit.normal) < 0.0 {
+            -shading
+        } else {
+            shading
+        };
+        // Normalizing rounds by a few ulps of each unit component.
+        assert!((hit.shading_normal - expected).length() < 8.0 * f64::EPSILON);
+    }
+    assert!(hits > 350, "only {hits} centroids hit");
+}
+
+/// Sampling by area picks the face a running sum over every face picks (the mesh keeps a
+/// sum for every few faces and adds the rest again): every direction drawn crosses the face
+/// whose share of the total area holds `u.x`, at the ends of shares and between them.
+#[test]
+fn area_sampling_picks_the_face_a_full_running_sum_picks() {
+    let (_, _, mesh) = shuffled_mesh(72);
+    let faces: Vec<_> = mesh.faces().collect();
+    let mut sums = Vec::new();
+    let mut total = 0.0;
+    for face in &faces {
+        let [a, b, c] = face.corners();
+        total += 0.5 * (b - a).cross(c - a).length();
+        sums.push(total);
+    }
+    assert_eq!(mesh.area(), total);
+    let origin = DVec3::new(31.0, -17.0, 23.0);
+    let mut us: Vec<f64> = (0..2000).map(|i| i as f64 / 2000.0).collect();
+    // Exactly at the ends of shares, where a block's sum and a face's meet.
+    us.extend(sums.iter().map(|&s| s / total).filter(|&u| u < 1.0));
+    us.push(1.0);
+    for u in us {
+        let target = u * total;
+        let expected = sums.partition_point(|&c| c <= target).min(faces.len() - 1);
+        let d = mesh.sample_direction(origin, DVec2::new(u, 0.5));
+        let ray = Ray::new(origin, d);
+        assert!(
+            faces[expected].hit_barycentric(&ray, FORWARD).is_some(),
+            "u.x = {u}: the sample misses face {expected}"
+        );
+    }
+}

@@ -2,8 +2,8 @@
 
 use glam::{DVec2, DVec3};
 
-use super::TriangleMesh;
 use super::intersect::Sheared;
+use super::{AREA_BLOCK, TriangleMesh, face_area};
 use crate::light::{reaching, toward_middle};
 use crate::math::{sqrt, unit_and_length};
 use crate::{Interval, PdfHittable, Ray};
@@ -66,16 +66,28 @@ impl PdfHittable for TriangleMesh {
         }
         let u = u.clamp(DVec2::ZERO, DVec2::ONE);
         let target = u.x * area;
-        let position = self
-            .cumulative_area
+        // The block whose running sum first passes the target, then the face within it
+        // whose area, added in the same order, does: the face a sum for every face picks.
+        let block = self
+            .area_sums
             .partition_point(|&c| c <= target)
-            .min(self.cumulative_area.len() - 1);
-        let below = if position == 0 {
+            .min(self.area_sums.len() - 1);
+        let mut below = if block == 0 {
             0.0
         } else {
-            self.cumulative_area[position - 1]
+            self.area_sums[block - 1]
         };
-        let share = self.cumulative_area[position] - below;
+        let first = block * AREA_BLOCK;
+        let last = (first + AREA_BLOCK).min(self.triangles.len()) - 1;
+        let (mut position, mut share) = (last, 0.0);
+        for p in first..=last {
+            let above = below + face_area(self.corners_at(p));
+            if above > target || p == last {
+                (position, share) = (p, above - below);
+                break;
+            }
+            below = above;
+        }
         let within = ((target - below) / share).clamp(0.0, 1.0);
         let [p0, p1, p2] = self.corners_at(position);
         let within = DVec2::new(if within.is_finite() { within } else { 0.0 }, u.y);

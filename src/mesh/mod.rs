@@ -59,13 +59,21 @@ use intersect::{Crossing, Sheared};
 /// ```
 #[derive(Clone, Debug)]
 pub struct TriangleMesh {
+    /// The vertices the hittable faces use, in the mesh's own order: as the faces, in the
+    /// tree's order, first name them, so that a leaf's corners lie together in memory
+    /// (on a soup, where every face has corners of its own, one run of bytes a leaf).
     vertices: Vec<DVec3>,
-    /// Empty, or one per vertex.
+    /// The caller's number of each vertex: `vertices[i]` is the caller's
+    /// `source[i]`-th.
+    source: Vec<u32>,
+    /// How many vertices the caller gave (what normals and uvs are given for).
+    vertex_count: usize,
+    /// Empty, or one per vertex (of `vertices`).
     normals: Vec<DVec3>,
-    /// Empty, or one per vertex.
+    /// Empty, or one per vertex (of `vertices`).
     uvs: Vec<DVec2>,
-    /// The faces that can be hit, in the tree's order; `tree.order[i]` is the caller's
-    /// number of `triangles[i]`.
+    /// The faces that can be hit, in the tree's order, as indices into `vertices`;
+    /// `tree.order[i]` is the caller's number of `triangles[i]`.
     triangles: Vec<[u32; 3]>,
     tree: Tree,
     /// How many faces the caller gave, degenerate ones included.
@@ -75,10 +83,16 @@ pub struct TriangleMesh {
     /// point can overflow: settled once here, not for every crossing.
     near_overflow: bool,
     material: MaterialId,
-    /// Running sums of the triangles' areas, in the tree's order: what sampling by area
-    /// picks a face from.
-    cumulative_area: Vec<f64>,
+    /// Running sums of the triangles' areas, in the tree's order, at the end of every
+    /// block of [`AREA_BLOCK`] faces: what sampling by area picks a face from.
+    area_sums: Vec<f64>,
 }
+
+/// How many faces share one running sum of areas: sampling by area finds the block by
+/// the sums and the face within it by adding its faces' areas again, in the same order,
+/// so that it picks exactly the face a sum for every face would, for a quarter of the
+/// memory (2 bytes a face instead of 8).
+const AREA_BLOCK: usize = 4;
 
 /// How the mesh's tree weighs a node against its faces: a face test costs about as much
 /// as a visit to a pair of nodes, and leaves of a few faces keep the tree small (see
@@ -154,18 +168,43 @@ impl TriangleMesh {
             *position = kept[*position as usize];
         }
         drop(kept);
-        let triangles: Vec<[u32; 3]> = tree.order.iter().map(|&f| faces[f as usize]).collect();
-        let mut total = 0.0;
-        let cumulative_area = triangles
+        // The vertices renumbered as the faces, in the tree's order, first name them.
+        let mut renumbered = vec![u32::MAX; vertices.len()];
+        let mut source = Vec::new();
+        let triangles: Vec<[u32; 3]> = tree
+            .order
             .iter()
-            .map(|&face| {
-                let [a, b, c] = corners(vertices, face);
-                total += 0.5 * unit_and_length((b - a).cross(c - a)).1;
+            .map(|&f| {
+                faces[f as usize].map(|i| {
+                    let slot = &mut renumbered[i as usize];
+                    if *slot == u32::MAX {
+                        // Below u32::MAX: indices are u32, so there are at most 2^32
+                        // distinct vertices, and the last would need 96 GiB of them.
+                        *slot = source.len() as u32;
+                        source.push(i);
+                    }
+                    *slot
+                })
+            })
+            .collect();
+        drop(renumbered);
+        source.shrink_to_fit();
+        let vertex_count = vertices.len();
+        let vertices: Vec<DVec3> = source.iter().map(|&i| vertices[i as usize]).collect();
+        let mut total = 0.0;
+        let area_sums = triangles
+            .chunks(AREA_BLOCK)
+            .map(|block| {
+                for &face in block {
+                    total += face_area(corners(&vertices, face));
+                }
                 total
             })
             .collect();
         Ok(Self {
-            vertices: vertices.to_vec(),
+            vertices,
+            source,
+            vertex_count,
             normals: Vec::new(),
             uvs: Vec::new(),
             triangles,
@@ -174,7 +213,7 @@ impl TriangleMesh {
             near_overflow: bbox.near_overflow(),
             bbox,
             material: MaterialId::default(),
-            cumulative_area,
+            area_sums,
         })
     }
 
@@ -186,7 +225,7 @@ impl TriangleMesh {
     /// [`GeometryError::LengthMismatch`] unless there is one normal per vertex,
     /// [`GeometryError::NonFiniteElement`] for a NaN or infinite one.
     pub fn with_normals(mut self, normals: &[DVec3]) -> Result<Self, GeometryError> {
-        self.normals = per_vertex("normals", normals, self.vertices.len(), |n| n.is_finite())?;
+        self.normals = self.per_vertex("normals", normals, |n| n.is_finite())?;
         Ok(self)
     }
 
@@ -196,7 +235,7 @@ impl TriangleMesh {
     /// [`GeometryError::LengthMismatch`] unless there is one pair per vertex,
     /// [`GeometryError::NonFiniteElement`] for a NaN or infinite one.
     pub fn with_uvs(mut self, uvs: &[DVec2]) -> Result<Self, GeometryError> {
-        self.uvs = per_vertex("uvs", uvs, self.vertices.len(), |uv| uv.is_finite())?;
+        self.uvs = self.per_vertex("uvs", uvs, |uv| uv.is_finite())?;
         Ok(self)
     }
 
@@ -223,7 +262,10 @@ impl TriangleMesh {
         self.triangles.len()
     }
 
-    /// The vertex positions.
+    /// The positions of the vertices that hittable faces use, in the mesh's own order: as
+    /// its tree, leaf by leaf, first meets them, so that a leaf's corners lie together in
+    /// memory. Not the order given to [`TriangleMesh::new`]: [`Face::indices`] gives a
+    /// face's corners by the caller's numbering, [`Face::corners`] their positions.
     #[inline]
     #[must_use]
     pub fn vertices(&self) -> &[DVec3] {
@@ -241,7 +283,7 @@ impl TriangleMesh {
     #[inline]
     #[must_use]
     pub fn area(&self) -> f64 {
-        self.cumulative_area.last().copied().unwrap_or(0.0)
+        self.area_sums.last().copied().unwrap_or(0.0)
     }
 
     /// The bytes the mesh holds on the heap: vertices, indices, normals and uvs, the tree
@@ -250,10 +292,11 @@ impl TriangleMesh {
     pub fn heap_bytes(&self) -> usize {
         use core::mem::size_of;
         self.vertices.capacity() * size_of::<DVec3>()
+            + self.source.capacity() * size_of::<u32>()
             + self.normals.capacity() * size_of::<DVec3>()
             + self.uvs.capacity() * size_of::<DVec2>()
             + self.triangles.capacity() * size_of::<[u32; 3]>()
-            + self.cumulative_area.capacity() * size_of::<f64>()
+            + self.area_sums.capacity() * size_of::<f64>()
             + self.tree.heap_bytes()
     }
 
@@ -439,11 +482,18 @@ impl Face<'_> {
         self.mesh.tree.order[self.position]
     }
 
-    /// The face's three vertex indices.
+    /// The face's three vertex indices, as the caller numbered the vertices.
     #[inline]
     #[must_use]
     pub fn indices(&self) -> [u32; 3] {
-        self.mesh.triangles[self.position]
+        self.mesh.triangles[self.position].map(|i| self.mesh.source[i as usize])
+    }
+
+    /// The face's three corners.
+    #[inline]
+    #[must_use]
+    pub fn corners(&self) -> [DVec3; 3] {
+        self.mesh.corners_at(self.position)
     }
 
     /// The hit and its barycentric coordinates: the weights of the three corners, each at
@@ -480,6 +530,12 @@ fn corners(vertices: &[DVec3], [a, b, c]: [u32; 3]) -> [DVec3; 3] {
     ]
 }
 
+/// A face's area, as the running sums add it.
+#[inline(always)]
+fn face_area([a, b, c]: [DVec3; 3]) -> f64 {
+    0.5 * unit_and_length((b - a).cross(c - a)).1
+}
+
 /// The box of a face's corners, grown by an ulp or two of its coordinates: a ray whose
 /// crossing is settled within double-double rounding of an edge still meets it.
 #[inline(always)]
@@ -488,21 +544,25 @@ fn face_box([a, b, c]: [DVec3; 3]) -> Aabb {
     Aabb { min, max }.grown(gamma(2) * min.abs().max(max.abs()))
 }
 
-fn per_vertex<T: Copy>(
-    what: &'static str,
-    values: &[T],
-    vertices: usize,
-    finite: impl Fn(&T) -> bool,
-) -> Result<Vec<T>, GeometryError> {
-    if values.len() != vertices {
-        return Err(GeometryError::LengthMismatch {
-            what,
-            expected: vertices,
-            found: values.len(),
-        });
+impl TriangleMesh {
+    /// `values`, one for each vertex the caller gave, checked and put in the mesh's order
+    /// of vertices.
+    fn per_vertex<T: Copy>(
+        &self,
+        what: &'static str,
+        values: &[T],
+        finite: impl Fn(&T) -> bool,
+    ) -> Result<Vec<T>, GeometryError> {
+        if values.len() != self.vertex_count {
+            return Err(GeometryError::LengthMismatch {
+                what,
+                expected: self.vertex_count,
+                found: values.len(),
+            });
+        }
+        if let Some(index) = values.iter().position(|v| !finite(v)) {
+            return Err(GeometryError::NonFiniteElement { what, index });
+        }
+        Ok(self.source.iter().map(|&i| values[i as usize]).collect())
     }
-    if let Some(index) = values.iter().position(|v| !finite(v)) {
-        return Err(GeometryError::NonFiniteElement { what, index });
-    }
-    Ok(values.to_vec())
 }
