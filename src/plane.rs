@@ -400,6 +400,9 @@ impl Plane {
                 _ => {}
             }
         }
+        // (Tried: this test, without the division, before the coordinates and the clear
+        // decision, so that crossings behind the closest hit so far skip them; on the
+        // quads scene, five runs in alternation, 2.86 s before and 2.91 s after.)
         let reach = self.reach(&parts, t);
         if t - 3.0 * reach > ray_t.max {
             return None;

@@ -202,7 +202,9 @@ impl HitRecord {
         let offset = self.normal.abs().dot(self.point_error).min(f64::MAX);
         let mut origin = self.point + offset * toward;
         // One more float away along every axis the normal has a component on, so that the
-        // origin leaves the surface even where the error bound is zero.
+        // origin leaves the surface even where the error bound is zero. (Tried: a
+        // branch-free step of `2^-52 |x|` per axis, selected by the normal's signs; on the
+        // quads scene, five runs in alternation, 2.874 s against 2.859 s: within noise.)
         for axis in 0..3 {
             if toward[axis] > 0.0 {
                 origin[axis] = origin[axis].next_up();
