@@ -4,6 +4,7 @@
 mod intersect;
 mod light;
 
+use alloc::vec;
 use alloc::vec::Vec;
 
 use glam::{DVec2, DVec3};
