@@ -119,7 +119,7 @@ mod impl_serde;
 pub use glam;
 
 pub use aabb::Aabb;
-pub use bvh::Bvh;
+pub use bvh::{Bvh, TreeCost};
 pub use cuboid::Cuboid;
 pub use error::GeometryError;
 pub use hittable::{Hittable, PdfHittable};

@@ -37,6 +37,18 @@ pub(crate) fn unit_and_length(v: glam::DVec3) -> (glam::DVec3, f64) {
     (scaled / length, length / scale)
 }
 
+/// `|v|`, as [`unit_and_length`] gives it (the same bits), for the price of a length: the
+/// scaling undone by multiplying by its reciprocal, also a power of two, not by a division.
+#[inline]
+#[must_use]
+pub(crate) fn length(v: glam::DVec3) -> f64 {
+    let exponent = ((v.abs().max_element().to_bits() >> 52) & 0x7ff) as i64 - 1023;
+    let exponent = exponent.clamp(-1022, 1022);
+    let scale = f64::from_bits(((1023 - exponent) as u64) << 52);
+    let unscale = f64::from_bits(((1023 + exponent) as u64) << 52);
+    (v * scale).length() * unscale
+}
+
 /// The power of two that brings finite `largest >= 0` into `[1, 2)` (clamped to the normal
 /// range): multiplying by it is exact, so sums and squares of the scaled values neither
 /// overflow nor underflow.

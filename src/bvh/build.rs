@@ -112,11 +112,22 @@ pub(super) fn build<T: Hittable>(mut objects: Vec<T>, parallel: bool) -> Bvh<T> 
     let (tree, bbox) = Tree::build(boxes.len(), |i| boxes[i], Shape::OBJECTS, parallel);
     drop(boxes);
     permute(&mut objects, &tree.order);
+    let built_cost = tree.sah_cost();
     Bvh {
         objects,
         tree,
         bbox,
+        built_cost,
     }
+}
+
+/// Puts a [`Bvh`]'s objects back in the caller's order, as given to [`Bvh::new`].
+pub(super) fn unpermute<T>(objects: &mut [T], order: &[u32]) {
+    let mut inverse = vec![0u32; order.len()];
+    for (position, &index) in (0u32..).zip(order) {
+        inverse[index as usize] = position;
+    }
+    permute(objects, &inverse);
 }
 
 /// How the surface area heuristic weighs a node against its objects.
@@ -201,33 +212,15 @@ impl Tree {
         }
 
         let mut nodes = Vec::new();
-        let (mut rounding, mut compact, mut depth) = ([0.0; 3], true, 0);
+        let mut depth = 0;
         if !prims.is_empty() {
             let extent = Extent::of(&prims);
             let mut builder = Builder::new(shape, parallel);
             let root = builder.node(&mut prims, 0, 0, extent);
             nodes.reserve(builder.pairs.len() / 2 + 1);
             depth = collapse(&builder.pairs, root, &mut nodes);
-            let (lo, hi) = (extent.bounds.min, extent.bounds.max);
-            for axis in 0..3 {
-                // Every node's bounds lie within the root's.
-                let (a, b) = (f64::from(lo[axis]), f64::from(hi[axis]));
-                compact &= a.abs().max(b.abs()) <= (1u64 << 60) as f64;
-            }
-            // How far `origin + bound` rounds, bound by bound (exactly, by two-sum): mostly
-            // not at all, since the build picks offsets whose sum lands on the box's own
-            // coordinates; but an ulp of the origin where it cannot (about 1e-4 at 1e12),
-            // which a bound from the magnitudes alone would charge every node.
-            for node in &nodes {
-                for (side, bounds) in node.bounds.iter().enumerate() {
-                    let axis = side % 3;
-                    for &f in bounds.iter().filter(|f| f.is_finite()) {
-                        let error = Dd::diff(origin[axis], -f64::from(f)).lo.abs();
-                        rounding[axis] = f64::max(rounding[axis], error);
-                    }
-                }
-            }
         }
+        let (rounding, compact) = rounding(&nodes, origin);
         let bounded = prims.len();
         let mut order: Vec<u32> = Vec::with_capacity(count);
         order.extend(prims.iter().map(Prim::index));
@@ -241,15 +234,39 @@ impl Tree {
             depth,
             order,
             bounded,
+            traversal_cost: shape.traversal_cost,
         };
         (tree, bbox)
     }
 }
 
+/// Per axis, how far `origin + bound` rounds in `f64` over the nodes' finite bounds, and
+/// whether every bound lies within `2^60` of `origin`: what `Tree::rounding` and
+/// `Tree::compact` hold.
+fn rounding(nodes: &[Node], origin: DVec3) -> ([f64; 3], bool) {
+    let (mut rounding, mut compact) = ([0.0; 3], true);
+    // How far `origin + bound` rounds, bound by bound (exactly, by two-sum): mostly not at
+    // all, since the build picks offsets whose sum lands on the box's own coordinates; but
+    // an ulp of the origin where it cannot (about 1e-4 at 1e12), which a bound from the
+    // magnitudes alone would charge every node.
+    for node in nodes {
+        for (side, bounds) in node.bounds.iter().enumerate() {
+            let axis = side % 3;
+            for &f in bounds.iter().filter(|f| f.is_finite()) {
+                compact &= f64::from(f).abs() <= (1u64 << 60) as f64;
+                let error = Dd::diff(origin[axis], -f64::from(f)).lo.abs();
+                rounding[axis] = f64::max(rounding[axis], error);
+            }
+        }
+    }
+    (rounding, compact)
+}
+
 /// The binary tree of `pairs` under `root` as nodes of up to four children, appended to
 /// `nodes` parents first: each node takes its two children, then, while it has a free
 /// lane, opens the inner child of largest surface area (the one a ray most often enters)
-/// in place of it. A root that is a leaf becomes a node of one child. Returns the levels
+/// in place of it. Lanes keep the binary tree's left-to-right order, so that a walk of the
+/// nodes, lane by lane, depth first, meets the leaves in the objects' order. A root that is a leaf becomes a node of one child. Returns the levels
 /// of nodes.
 fn collapse(pairs: &[Pair], root: Child, nodes: &mut Vec<Node>) -> usize {
     let slot = nodes.len();
@@ -278,8 +295,12 @@ fn collapse(pairs: &[Pair], root: Child, nodes: &mut Vec<Node>) -> usize {
                     .total_cmp(&lanes[b].bounds.half_area())
             });
             let Some(k) = widest else { break };
+            // Its two children take its place, in order, so that the lanes stay in the
+            // binary tree's left-to-right order (and their leaves in the objects' order:
+            // what a refit relies on to visit the objects in order).
             let pair = &pairs[lanes[k].index as usize];
-            (lanes[k], lanes[used]) = (pair.child(0), pair.child(1));
+            lanes.copy_within(k + 1..used, k + 2);
+            (lanes[k], lanes[k + 1]) = (pair.child(0), pair.child(1));
             used += 1;
         }
     }
@@ -636,25 +657,114 @@ fn permute<T>(objects: &mut [T], order: &[u32]) {
 /// (`origin + f` in `f64`, see `traverse::entries`), is at or below `x`: a node box stored
 /// this way still contains the `f64` box it was built from, exactly. Infinite when the
 /// offset is past `f32`'s range (the object then stays out of the tree).
-fn below(x: f64, origin: f64) -> f32 {
-    let mut f = round_down(x - origin);
-    // `x - origin` and `origin + f` both round; step down by at least an ulp of each until
-    // the sum lands at or below `x` (one or two steps).
-    let mut step = f64::from(f32::EPSILON) * f64::from(f.abs()) + 2.0 * f64::EPSILON * origin.abs();
-    while f.is_finite() && origin + f64::from(f) > x {
-        f = round_down(f64::from(f) - step);
-        step *= 2.0;
+///
+/// The `f32` at or below `x - origin` (as `f64` rounds it) where its sum with `origin`
+/// lands at or below `x`, as it mostly does (often on `x` itself); else its neighbour
+/// below, which always does: the rounded difference is within half an `f64` ulp of the
+/// exact one, and an `f32` step is wider than that at any magnitude, so the exact sum is
+/// below `x`, and rounding it to `f64` cannot pass `x`. Branch-free (which of the two it
+/// is, is a coin toss where the origin's bits are not round).
+#[inline]
+pub(super) fn below(x: f64, origin: f64) -> f32 {
+    let f = round_down(x - origin);
+    if origin + f64::from(f) <= x {
+        f
+    } else {
+        step_down(f)
     }
-    f
 }
 
 /// As [`below`], at or above `x`.
-fn above(x: f64, origin: f64) -> f32 {
+pub(super) fn above(x: f64, origin: f64) -> f32 {
     -below(-x, -origin)
 }
 
-/// The largest `f32` at or below `x`.
+/// The largest `f32` at or below `x` (NaN for NaN), without a branch: rounded to nearest,
+/// then, where that went up, its neighbour toward `-inf`, one step of its bits (toward
+/// zero for a positive, away from it for a negative, `-0.0` to the smallest negative
+/// subnormal, `+inf` to `f32::MAX`).
+#[inline]
 fn round_down(x: f64) -> f32 {
     let f = x as f32;
-    if f64::from(f) > x { f.next_down() } else { f }
+    if f64::from(f) > x { step_down(f) } else { f }
+}
+
+/// The next `f32` toward `-inf` of a non-NaN `f` that is not `-inf`: one step of its bits
+/// (toward zero for a positive, away from it for a negative, `-0.0` to the smallest
+/// negative subnormal, `+inf` to `f32::MAX`).
+#[inline]
+fn step_down(f: f32) -> f32 {
+    let bits = f.to_bits() as i32;
+    f32::from_bits(bits.wrapping_sub(2 * (bits >> 31) + 1) as u32)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::round_down;
+    use proptest::prelude::*;
+
+    /// The reference: the largest `f32` at or below `x`, by `next_down`.
+    fn reference(x: f64) -> f32 {
+        let f = x as f32;
+        if f64::from(f) > x { f.next_down() } else { f }
+    }
+
+    #[test]
+    fn round_down_at_the_edges() {
+        let tiny = f64::from(f32::from_bits(1));
+        for x in [
+            0.0,
+            -0.0,
+            tiny,
+            -tiny,
+            0.5 * tiny,
+            -0.5 * tiny,
+            1e-300,
+            -1e-300,
+            1.0,
+            -1.0,
+            f64::from(f32::MAX),
+            -f64::from(f32::MAX),
+            3.5e38,
+            -3.5e38,
+            1e300,
+            -1e300,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+        ] {
+            assert_eq!(round_down(x).to_bits(), reference(x).to_bits(), "{x:e}");
+        }
+        assert!(round_down(f64::NAN).is_nan());
+    }
+
+    proptest! {
+        /// `below` and `above` hold `x` as traversal computes the bound (`origin + f` in
+        /// `f64`), for coordinates and origins of every magnitude, and are tight: at most
+        /// two `f32` steps from the difference rounded outward.
+        #[test]
+        fn offsets_hold_the_coordinate_and_are_tight(
+            x in prop_oneof![any::<f64>(), -1e13f64..1e13, -1.0f64..1.0],
+            near in prop_oneof![Just(0.0), -1e-3f64..1e-3, -1e6f64..1e6],
+        ) {
+            prop_assume!(x.is_finite());
+            let origin = x + near;
+            prop_assume!(origin.is_finite());
+            let (lo, hi) = (super::below(x, origin), super::above(x, origin));
+            if lo.is_finite() {
+                prop_assert!(origin + f64::from(lo) <= x);
+                prop_assert!(lo >= super::step_down(super::step_down(round_down(x - origin))));
+            }
+            if hi.is_finite() {
+                prop_assert!(origin + f64::from(hi) >= x);
+                prop_assert!(-hi >= super::step_down(super::step_down(round_down(origin - x))));
+            }
+        }
+
+        #[test]
+        fn round_down_is_the_largest_f32_at_or_below(bits in any::<u64>()) {
+            let x = f64::from_bits(bits);
+            prop_assume!(!x.is_nan());
+            prop_assert_eq!(round_down(x).to_bits(), reference(x).to_bits());
+        }
+    }
 }

@@ -2,6 +2,7 @@
 //! traversed front to back without recursion or allocation.
 
 mod build;
+mod refit;
 mod traverse;
 
 pub(crate) use build::Shape;
@@ -65,6 +66,49 @@ pub struct Bvh<T> {
     objects: Vec<T>,
     tree: Tree,
     bbox: Aabb,
+    /// The tree's [`Tree::sah_cost`] when it was built.
+    built_cost: f64,
+}
+
+/// A tree's cost by the surface area heuristic, when it was built and now, after updates
+/// moved its objects: what says when to rebuild it. See [`Bvh::cost`] and
+/// [`TriangleMesh::cost`](crate::TriangleMesh::cost).
+///
+/// The cost is the expected work of a ray that meets the tree's box, in units of one
+/// object test (node visits weighted as the build weighs them): a refitted tree keeps its
+/// shape, and as its objects move apart from the ones they were grouped with, its boxes
+/// grow and overlap and the cost rises. A rebuild brings it back to about `built`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TreeCost {
+    /// At the last build.
+    pub built: f64,
+    /// Now.
+    pub now: f64,
+}
+
+impl TreeCost {
+    /// How much dearer a ray is than at the last build, by the heuristic, beyond which
+    /// [`TreeCost::needs_rebuild`] says to rebuild.
+    pub const REBUILD_AT: f64 = 1.5;
+
+    /// `now / built` (1 for a tree of no bounded objects).
+    #[inline]
+    #[must_use]
+    pub fn ratio(&self) -> f64 {
+        if self.built > 0.0 {
+            self.now / self.built
+        } else {
+            1.0
+        }
+    }
+
+    /// The default policy: whether the cost has grown past [`TreeCost::REBUILD_AT`]
+    /// times its cost at build.
+    #[inline]
+    #[must_use]
+    pub fn needs_rebuild(&self) -> bool {
+        self.ratio() > Self::REBUILD_AT
+    }
 }
 
 /// The hierarchy itself, over objects known by position: what [`Bvh`] and
@@ -87,6 +131,8 @@ pub(crate) struct Tree {
     pub(crate) order: Vec<u32>,
     /// How many objects are in the tree.
     bounded: usize,
+    /// What a node visit costs against one object test, as the build weighed it.
+    traversal_cost: f64,
 }
 
 impl Tree {
@@ -147,6 +193,65 @@ impl<T: Hittable> Bvh<T> {
     #[must_use]
     pub fn original_index(&self, i: usize) -> usize {
         self.tree.order[i] as usize
+    }
+
+    /// Lets `edit` change the objects (in the BVH's own order: see
+    /// [`Bvh::original_index`]), then refits the tree to where they now are: every box
+    /// recomputed bottom up, the tree's shape and the objects' order kept, so
+    /// [`Bvh::original_index`] and [`Bvh::hit_with_index`] name every object as before. The
+    /// tree answers exactly as the loop over its objects after any update, as after a
+    /// build. Where an object in the tree can no longer be (its box unbounded or empty, or
+    /// past `f32`'s range from the others), the tree is rebuilt instead.
+    ///
+    /// A refit is linear in the objects and never allocates, but the tree it keeps was
+    /// chosen for where the objects were: watch [`Bvh::cost`] and [`Bvh::rebuild`] when it
+    /// has grown too dear.
+    ///
+    /// ```
+    /// use hitkit::glam::DVec3;
+    /// use hitkit::{Bvh, Hittable, Interval, Ray, Sphere};
+    ///
+    /// let mut balls: Bvh<Sphere> =
+    ///     (0..10).map(|i| Sphere::new(DVec3::new(f64::from(i), 0.0, 0.0), 0.25).unwrap()).collect();
+    /// let down = Ray::new(DVec3::new(3.0, 0.0, 5.0), DVec3::NEG_Z);
+    /// assert!(balls.hit(&down, Interval::FORWARD).is_some());
+    ///
+    /// // Every ball moves up by 10; their order, and the numbers they answer by, stay.
+    /// balls.update(|objects| {
+    ///     for ball in objects {
+    ///         *ball = Sphere::new(ball.center() + DVec3::Z * 10.0, ball.radius()).unwrap();
+    ///     }
+    /// });
+    /// assert!(balls.hit(&down, Interval::FORWARD).is_none());
+    /// let (index, hit) = balls.hit_with_index(&Ray::new(DVec3::new(3.0, 0.0, 20.0), DVec3::NEG_Z), Interval::FORWARD).unwrap();
+    /// assert_eq!((index, hit.t), (3, 9.75));
+    /// assert!(!balls.cost().needs_rebuild());
+    /// ```
+    pub fn update(&mut self, edit: impl FnOnce(&mut [T])) {
+        edit(&mut self.objects);
+        let objects = &self.objects;
+        match self.tree.refit(None, |p| objects[p].bounding_box()) {
+            Some(bbox) => self.bbox = bbox,
+            None => self.rebuild(),
+        }
+    }
+
+    /// Builds the tree again over the objects where they are now (as [`Bvh::new`] of them
+    /// in their original order would), keeping the numbers they answer by.
+    pub fn rebuild(&mut self) {
+        let mut objects = core::mem::take(&mut self.objects);
+        build::unpermute(&mut objects, &self.tree.order);
+        *self = build::build(objects, false);
+    }
+
+    /// The tree's cost by the surface area heuristic, now and at its last build: see
+    /// [`TreeCost`] for when to [`Bvh::rebuild`].
+    #[must_use]
+    pub fn cost(&self) -> TreeCost {
+        TreeCost {
+            built: self.built_cost,
+            now: self.tree.sah_cost(),
+        }
     }
 
     /// The closest hit and the position of the object hit in the `Vec` given to

@@ -343,7 +343,7 @@ mod tests {
 
         /// The `f32` lanes never reject a child the `f64` test accepts, nor put its entry
         /// later, for every node of trees of boxes from 1e-6 to 1e6 wide at offsets up to
-        /// 1e12, and rays from inside, beside (on a box's own bound, parallel to it) and
+        /// 1e12 (built there, or built elsewhere and refitted), and rays from inside, beside (on a box's own bound, parallel to it) and
         /// far away, with directions of every size and with zero components.
         #[test]
         fn lanes_are_conservative_against_the_f64_test(
@@ -360,6 +360,7 @@ mod tests {
             direction in prop::array::uniform3(component()),
             t_min in prop_oneof![Just(0.0), Just(f64::NEG_INFINITY), Just(-1.0), 0.0f64..1.0],
             t_max in prop_oneof![Just(f64::INFINITY), 0.0f64..10.0, Just(1e30)],
+            built_at in prop::option::of(prop_oneof![Just(0.0), Just(1e9), Just(-2.9e12)]),
         ) {
             let size = 10f64.powi(scale);
             let boxes: Vec<Aabb> = boxes
@@ -371,7 +372,21 @@ mod tests {
                     Aabb::new(c - half, c + half)
                 })
                 .collect();
-            let (tree, _) = Tree::build(boxes.len(), |i| boxes[i], Shape::OBJECTS, false);
+            let (mut tree, _) = Tree::build(boxes.len(), |i| boxes[i], Shape::OBJECTS, false);
+            if let Some(at) = built_at {
+                // Built where the boxes were (elsewhere, shrunk or grown), then refitted to
+                // where they are: the refitted tree must hold as a built one does.
+                let moved: Vec<Aabb> = boxes
+                    .iter()
+                    .map(|b| {
+                        let (lo, hi) = (b.min() - DVec3::splat(offset), b.max() - DVec3::splat(offset));
+                        Aabb::new(lo * 3.0 + DVec3::splat(at), hi * 3.0 + DVec3::splat(at))
+                    })
+                    .collect();
+                (tree, _) = Tree::build(moved.len(), |i| moved[i], Shape::OBJECTS, false);
+                let order = tree.order.clone();
+                prop_assert!(tree.refit(None, |p| boxes[order[p] as usize]).is_some());
+            }
             let mut origin = DVec3::from(from) * size * far + DVec3::splat(offset);
             let mut direction = DVec3::from(direction);
             if on_bound {

@@ -9,8 +9,9 @@ use alloc::vec::Vec;
 
 use glam::{DVec2, DVec3};
 
+use crate::TreeCost;
 use crate::bvh::{Shape, Tree};
-use crate::math::{gamma, unit_and_length};
+use crate::math::{gamma, length, unit_and_length};
 use crate::{Aabb, Found, GeometryError, HitRecord, Hittable, Interval, MaterialId, Ray};
 
 use intersect::{Crossing, Sheared};
@@ -60,15 +61,21 @@ use intersect::{Crossing, Sheared};
 /// ```
 #[derive(Clone, Debug)]
 pub struct TriangleMesh {
-    /// The vertices the hittable faces use, in the mesh's own order: as the faces, in the
-    /// tree's order, first name them, so that a leaf's corners lie together in memory
-    /// (on a soup, where every face has corners of its own, one run of bytes a leaf).
+    /// The vertices, in the mesh's own order: those the hittable faces use as the faces, in
+    /// the tree's order, first name them, so that a leaf's corners lie together in memory
+    /// (on a soup, where every face has corners of its own, one run of bytes a leaf); then
+    /// those only degenerate faces use, kept for updates that make their faces hittable.
     vertices: Vec<DVec3>,
     /// The caller's number of each vertex: `vertices[i]` is the caller's
     /// `source[i]`-th.
     source: Vec<u32>,
     /// How many vertices the caller gave (what normals and uvs are given for).
     vertex_count: usize,
+    /// How many of `vertices` (the first ones) the hittable faces use.
+    hittable_vertices: usize,
+    /// The faces kept out of the tree, by the caller's numbers (of the face, and of its
+    /// vertices): what a rebuild needs when an update makes them hittable.
+    degenerate: Vec<(u32, [u32; 3])>,
     /// Empty, or one per vertex (of `vertices`).
     normals: Vec<DVec3>,
     /// Empty, or one per vertex (of `vertices`).
@@ -87,6 +94,8 @@ pub struct TriangleMesh {
     /// Running sums of the triangles' areas, in the tree's order, at the end of every
     /// block of [`AREA_BLOCK`] faces: what sampling by area picks a face from.
     area_sums: Vec<f64>,
+    /// The tree's cost at its build (see [`TriangleMesh::cost`]).
+    built_cost: f64,
 }
 
 /// How many faces share one running sum of areas: sampling by area finds the block by
@@ -144,6 +153,7 @@ impl TriangleMesh {
             });
         }
         let mut kept: Vec<u32> = Vec::with_capacity(faces.len());
+        let mut degenerate = Vec::new();
         for (face, &corners) in (0u32..).zip(faces) {
             for index in corners {
                 if index as usize >= vertices.len() {
@@ -159,7 +169,9 @@ impl TriangleMesh {
             if !cross.is_finite() {
                 return Err(GeometryError::OutOfRange);
             }
-            if cross != DVec3::ZERO {
+            if cross == DVec3::ZERO {
+                degenerate.push((face, corners));
+            } else {
                 kept.push(face);
             }
         }
@@ -172,40 +184,46 @@ impl TriangleMesh {
         // The vertices renumbered as the faces, in the tree's order, first name them.
         let mut renumbered = vec![u32::MAX; vertices.len()];
         let mut source = Vec::new();
+        let mut name = |i: u32| {
+            let slot = &mut renumbered[i as usize];
+            if *slot == u32::MAX {
+                // Below u32::MAX: indices are u32, so there are at most 2^32 distinct
+                // vertices, and the last would need 96 GiB of them.
+                *slot = source.len() as u32;
+                source.push(i);
+            }
+            *slot
+        };
         let triangles: Vec<[u32; 3]> = tree
             .order
             .iter()
-            .map(|&f| {
-                faces[f as usize].map(|i| {
-                    let slot = &mut renumbered[i as usize];
-                    if *slot == u32::MAX {
-                        // Below u32::MAX: indices are u32, so there are at most 2^32
-                        // distinct vertices, and the last would need 96 GiB of them.
-                        *slot = source.len() as u32;
-                        source.push(i);
-                    }
-                    *slot
-                })
-            })
+            .map(|&f| faces[f as usize].map(&mut name))
             .collect();
+        // Numbered from 0 in order of first use: as many as the largest number, plus one.
+        let hittable_vertices = triangles
+            .iter()
+            .flatten()
+            .max()
+            .map_or(0, |&m| m as usize + 1);
+        // Then those only degenerate faces name, for an update that makes them hittable
+        // (a vertex no face names is not kept).
+        for &(_, corners) in &degenerate {
+            corners.into_iter().for_each(|i| {
+                name(i);
+            });
+        }
         drop(renumbered);
         source.shrink_to_fit();
         let vertex_count = vertices.len();
         let vertices: Vec<DVec3> = source.iter().map(|&i| vertices[i as usize]).collect();
-        let mut total = 0.0;
-        let area_sums = triangles
-            .chunks(AREA_BLOCK)
-            .map(|block| {
-                for &face in block {
-                    total += face_area(corners(&vertices, face));
-                }
-                total
-            })
-            .collect();
-        Ok(Self {
+        let built_cost = tree.sah_cost();
+        let blocks = triangles.len().div_ceil(AREA_BLOCK);
+        let mut mesh = Self {
             vertices,
             source,
             vertex_count,
+            hittable_vertices,
+            degenerate,
             normals: Vec::new(),
             uvs: Vec::new(),
             triangles,
@@ -214,8 +232,195 @@ impl TriangleMesh {
             near_overflow: bbox.near_overflow(),
             bbox,
             material: MaterialId::default(),
-            area_sums,
-        })
+            area_sums: Vec::with_capacity(blocks),
+            built_cost,
+        };
+        mesh.sum_areas();
+        Ok(mesh)
+    }
+
+    /// Fills the running sums of the faces' areas.
+    fn sum_areas(&mut self) {
+        let mut total = 0.0;
+        self.area_sums.clear();
+        self.area_sums
+            .extend(self.triangles.chunks(AREA_BLOCK).map(|block| {
+                for &face in block {
+                    total += face_area(corners(&self.vertices, face));
+                }
+                total
+            }));
+    }
+
+    /// Moves the vertices to `vertices` (one for each the mesh was built from, in the
+    /// caller's numbering), keeping the faces, and refits the tree to them: every box
+    /// recomputed bottom up, the tree's shape kept; normals and uvs are kept (see
+    /// [`TriangleMesh::set_normals`]). The mesh answers as [`TriangleMesh::new`] of the
+    /// moved vertices would (watertight, and exactly as the loop over its faces), with the
+    /// faces keeping their numbers. Where a face turns degenerate or stops being so, or the
+    /// moved faces no longer fit the tree's `f32` boxes, the tree is rebuilt instead.
+    ///
+    /// A refit is linear in the faces and allocates nothing, but keeps a tree chosen for
+    /// where the faces were: watch [`TriangleMesh::cost`].
+    ///
+    /// # Errors
+    /// As [`TriangleMesh::new`] for the vertices ([`GeometryError::LengthMismatch`] unless
+    /// there is one per vertex given at build); the mesh is then left as it was.
+    ///
+    /// ```
+    /// use hitkit::glam::DVec3;
+    /// use hitkit::{Hittable, Interval, Ray, TriangleMesh};
+    ///
+    /// # fn main() -> Result<(), hitkit::GeometryError> {
+    /// let mut corners = [DVec3::ZERO, DVec3::X, DVec3::Y];
+    /// let mut mesh = TriangleMesh::new(&corners, &[[0, 1, 2]])?;
+    /// let ray = Ray::new(DVec3::new(0.25, 0.25, 5.0), DVec3::NEG_Z);
+    /// assert_eq!(mesh.hit(&ray, Interval::FORWARD).unwrap().t, 5.0);
+    ///
+    /// // Lifted by 1: the same face, refitted.
+    /// corners.iter_mut().for_each(|c| c.z += 1.0);
+    /// mesh.set_vertices(&corners)?;
+    /// assert_eq!(mesh.hit(&ray, Interval::FORWARD).unwrap().t, 4.0);
+    ///
+    /// // A NaN is refused, and the mesh stays where it was.
+    /// corners[0].x = f64::NAN;
+    /// assert!(mesh.set_vertices(&corners).is_err());
+    /// assert_eq!(mesh.hit(&ray, Interval::FORWARD).unwrap().t, 4.0);
+    /// # Ok(())
+    /// # }
+    /// ```
+    pub fn set_vertices(&mut self, vertices: &[DVec3]) -> Result<(), GeometryError> {
+        if vertices.len() != self.vertex_count {
+            return Err(GeometryError::LengthMismatch {
+                what: "vertices",
+                expected: self.vertex_count,
+                found: vertices.len(),
+            });
+        }
+        if let Some(index) = vertices.iter().position(|v| !v.is_finite()) {
+            return Err(GeometryError::NonFiniteElement {
+                what: "vertex",
+                index,
+            });
+        }
+        // Every error found before anything changes. A cross product of edges can only
+        // overflow past 2^500: its terms are products of two coordinate differences, each
+        // below 2^502, and f64 reaches 2^1024.
+        let largest = vertices
+            .iter()
+            .fold(0.0, |m: f64, v| m.max(v.abs().max_element()));
+        if largest > LARGEST_UNCHECKED {
+            let kept = self
+                .triangles
+                .iter()
+                .map(|face| face.map(|i| self.source[i as usize]));
+            let dropped = self.degenerate.iter().map(|&(_, face)| face);
+            if kept
+                .chain(dropped)
+                .any(|face| !cross(face.map(|i| vertices[i as usize])).is_finite())
+            {
+                return Err(GeometryError::OutOfRange);
+            }
+        }
+        // A face that stops being degenerate joins the tree: a new tree.
+        if self
+            .degenerate
+            .iter()
+            .any(|&(_, face)| cross(face.map(|i| vertices[i as usize])) != DVec3::ZERO)
+        {
+            return self.rebuild_from(vertices);
+        }
+        let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
+        for (k, (v, &i)) in self.vertices.iter_mut().zip(&self.source).enumerate() {
+            *v = vertices[i as usize];
+            if k < self.hittable_vertices {
+                (lo, hi) = (lo.min(*v), hi.max(*v));
+            }
+        }
+        // The tree centred on the box of the faces' corners, as the build centres it (on
+        // their boxes, grown by an ulp or two: the same centre but for a rounding). The
+        // refit meets the faces in order: their areas are summed on the way.
+        let (triangles, positions, sums) = (&self.triangles, &self.vertices, &mut self.area_sums);
+        let (mut total, mut degenerate) = (0.0, false);
+        sums.clear();
+        let refitted = self.tree.refit(Some(0.5 * lo + 0.5 * hi), |p| {
+            let face = corners(positions, triangles[p]);
+            let n = cross(face);
+            degenerate |= n == DVec3::ZERO;
+            total += area_of(n);
+            if p % AREA_BLOCK == AREA_BLOCK - 1 || p + 1 == triangles.len() {
+                sums.push(total);
+            }
+            face_box(face)
+        });
+        match refitted {
+            // A face that turned degenerate leaves the tree: a new tree too.
+            Some(bbox) if !degenerate => {
+                self.bbox = bbox;
+                self.near_overflow = bbox.near_overflow();
+                Ok(())
+            }
+            _ => self.rebuild_from(vertices),
+        }
+    }
+
+    /// New normals, one per vertex, as [`TriangleMesh::with_normals`] takes them.
+    ///
+    /// # Errors
+    /// As [`TriangleMesh::with_normals`]; the mesh is then left as it was.
+    pub fn set_normals(&mut self, normals: &[DVec3]) -> Result<(), GeometryError> {
+        self.normals = self.per_vertex("normals", normals, |n| n.is_finite())?;
+        Ok(())
+    }
+
+    /// New texture coordinates, one pair per vertex, as [`TriangleMesh::with_uvs`] takes
+    /// them.
+    ///
+    /// # Errors
+    /// As [`TriangleMesh::with_uvs`]; the mesh is then left as it was.
+    pub fn set_uvs(&mut self, uvs: &[DVec2]) -> Result<(), GeometryError> {
+        self.uvs = self.per_vertex("uvs", uvs, |uv| uv.is_finite())?;
+        Ok(())
+    }
+
+    /// The tree's cost by the surface area heuristic, now and at its last build: see
+    /// [`TreeCost`] for when to [`TriangleMesh::rebuild`].
+    #[must_use]
+    pub fn cost(&self) -> TreeCost {
+        TreeCost {
+            built: self.built_cost,
+            now: self.tree.sah_cost(),
+        }
+    }
+
+    /// Builds the tree again over the vertices where they are now, as
+    /// [`TriangleMesh::new`] would (normals, uvs and material kept).
+    pub fn rebuild(&mut self) {
+        let mut vertices = vec![DVec3::ZERO; self.vertex_count];
+        for (v, &i) in self.vertices.iter().zip(&self.source) {
+            vertices[i as usize] = *v;
+        }
+        // The vertices passed every check when they were given.
+        let rebuilt = self.rebuild_from(&vertices);
+        debug_assert!(rebuilt.is_ok());
+    }
+
+    /// The mesh of the same faces, normals, uvs and material on `vertices` (in the
+    /// caller's numbering), built afresh.
+    fn rebuild_from(&mut self, vertices: &[DVec3]) -> Result<(), GeometryError> {
+        let mut faces = vec![[0u32; 3]; self.faces];
+        for (face, &index) in self.triangles.iter().zip(&self.tree.order) {
+            faces[index as usize] = face.map(|i| self.source[i as usize]);
+        }
+        for &(index, face) in &self.degenerate {
+            faces[index as usize] = face;
+        }
+        let mut mesh = Self::build(vertices, &faces, false)?;
+        mesh.normals = reorder(&self.normals, &self.source, &mesh.source);
+        mesh.uvs = reorder(&self.uvs, &self.source, &mesh.source);
+        mesh.material = self.material;
+        *self = mesh;
+        Ok(())
     }
 
     /// The same mesh with one normal per vertex, interpolated into each hit's
@@ -263,10 +468,12 @@ impl TriangleMesh {
         self.triangles.len()
     }
 
-    /// The positions of the vertices that hittable faces use, in the mesh's own order: as
-    /// its tree, leaf by leaf, first meets them, so that a leaf's corners lie together in
-    /// memory. Not the order given to [`TriangleMesh::new`]: [`Face::indices`] gives a
-    /// face's corners by the caller's numbering, [`Face::corners`] their positions.
+    /// The positions of the vertices, in the mesh's own order: those that hittable faces
+    /// use as its tree, leaf by leaf, first meets them, so that a leaf's corners lie
+    /// together in memory; then those only degenerate faces use (a vertex no face names is
+    /// not kept). Not the order given to [`TriangleMesh::new`]:
+    /// [`Face::indices`] gives a face's corners by the caller's numbering,
+    /// [`Face::corners`] their positions.
     #[inline]
     #[must_use]
     pub fn vertices(&self) -> &[DVec3] {
@@ -298,6 +505,7 @@ impl TriangleMesh {
             + self.uvs.capacity() * size_of::<DVec2>()
             + self.triangles.capacity() * size_of::<[u32; 3]>()
             + self.area_sums.capacity() * size_of::<f64>()
+            + self.degenerate.capacity() * size_of::<(u32, [u32; 3])>()
             + self.tree.heap_bytes()
     }
 
@@ -531,11 +739,28 @@ fn corners(vertices: &[DVec3], [a, b, c]: [u32; 3]) -> [DVec3; 3] {
     ]
 }
 
+/// The cross product of a face's edges from its first corner: its normal, of twice its
+/// area in length.
+#[inline(always)]
+fn cross([a, b, c]: [DVec3; 3]) -> DVec3 {
+    (b - a).cross(c - a)
+}
+
 /// A face's area, as the running sums add it.
 #[inline(always)]
-fn face_area([a, b, c]: [DVec3; 3]) -> f64 {
-    0.5 * unit_and_length((b - a).cross(c - a)).1
+fn face_area(p: [DVec3; 3]) -> f64 {
+    area_of(cross(p))
 }
+
+/// The area of a face whose [`cross`] is `n`.
+#[inline(always)]
+fn area_of(n: DVec3) -> f64 {
+    0.5 * length(n)
+}
+
+/// Past this magnitude a vertex's faces are checked for a cross product that overflows
+/// before an update changes anything (see [`TriangleMesh::set_vertices`]).
+const LARGEST_UNCHECKED: f64 = 3.273_390_607_896_142e150; // 2^500
 
 /// The box of a face's corners, grown by an ulp or two of its coordinates: a ray whose
 /// crossing is settled within double-double rounding of an edge still meets it.
@@ -566,4 +791,17 @@ impl TriangleMesh {
         }
         Ok(self.source.iter().map(|&i| values[i as usize]).collect())
     }
+}
+
+/// Per-vertex `values` in the order `from` numbers the vertices (`from[i]` the caller's
+/// number of `values[i]`), put in the order `to` numbers them; empty stays empty.
+fn reorder<T: Copy + Default>(values: &[T], from: &[u32], to: &[u32]) -> Vec<T> {
+    if values.is_empty() {
+        return Vec::new();
+    }
+    let mut by_caller = vec![T::default(); from.len()];
+    for (value, &i) in values.iter().zip(from) {
+        by_caller[i as usize] = *value;
+    }
+    to.iter().map(|&i| by_caller[i as usize]).collect()
 }

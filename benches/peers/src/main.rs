@@ -8,6 +8,7 @@
 
 #[path = "../../../tests/support/scene.rs"]
 mod scene;
+mod updates;
 
 use std::hint::black_box;
 use std::path::{Path, PathBuf};
@@ -42,6 +43,10 @@ Options:
                  (20 * 4^L triangles), 0 for none [default: 8, 1.3M triangles]
   --mesh-only    only the rows of hitkit's TriangleMesh and obvhs on its own triangles
                  (for scenes too large for the other rows)
+  --updates      instead of the tables above, what moving a mesh costs: TriangleMesh's refit
+                 (set_vertices) against its rebuild and against obvhs's refit, and the
+                 throughput of a refitted tree as the mesh twists further, against a fresh
+                 one (the rays as above)
   --rays N       incoherent rays per scene [default: 1000000]
   --side N       camera rays: an N x N grid [default: 1000]
   --runs K       repetitions of every build and trace; the median is reported [default: 3]
@@ -58,6 +63,7 @@ struct Args {
     soups: Vec<usize>,
     sphere: u32,
     mesh_only: bool,
+    updates: bool,
     rays: usize,
     side: usize,
     runs: usize,
@@ -124,6 +130,7 @@ fn parse_args(mut args: impl Iterator<Item = String>) -> Result<Option<Args>, St
         soups: vec![1_000, 1_000_000],
         sphere: 8,
         mesh_only: false,
+        updates: false,
         rays: 1_000_000,
         side: 1_000,
         runs: 3,
@@ -137,6 +144,10 @@ fn parse_args(mut args: impl Iterator<Item = String>) -> Result<Option<Args>, St
         }
         if flag == "--mesh-only" {
             parsed.mesh_only = true;
+            continue;
+        }
+        if flag == "--updates" {
+            parsed.updates = true;
             continue;
         }
         if ![
@@ -848,6 +859,16 @@ fn main() -> ExitCode {
             vertices,
             faces,
         });
+    }
+    if args.updates {
+        let (mut times, mut rows) = (Vec::new(), Vec::new());
+        for scene in &scenes {
+            let (t, r) = updates::run(scene, &args);
+            times.push(t);
+            rows.extend(r);
+        }
+        updates::print(&times, &rows, &args);
+        return ExitCode::SUCCESS;
     }
     let (mut rows, mut checks, mut warnings) = (Vec::new(), Vec::new(), Vec::new());
     for scene in &scenes {

@@ -1,0 +1,288 @@
+//! Scenes that change: a `TriangleMesh` whose vertices move and a `Bvh` whose objects move,
+//! refitted in place (or rebuilt where a refit cannot hold them), still answer exactly as
+//! the loop over their faces or objects after every update of a random sequence: moves from
+//! an ulp to the scene's size, jumps to offsets of 1e12, faces collapsing to degenerate
+//! and opening again, objects turning unbounded and back (the contract's clause 3).
+
+mod support;
+
+use hitkit::glam::DVec3;
+use hitkit::{
+    Bvh, GeometryError, Hittable, Interval, Plane, Quad, Ray, Sphere, Triangle, TriangleMesh,
+};
+use proptest::prelude::*;
+use support::{OFFSETS, SplitMix, brute_force, face_point, icosphere, meaningful, rotation};
+
+const FORWARD: Interval = Interval::FORWARD;
+
+/// One update of a sequence: how far things move (relative to the scene's size), whether
+/// the whole scene jumps to another offset, and how many faces or objects collapse or
+/// change kind.
+#[derive(Clone, Copy, Debug)]
+struct Step {
+    /// Each vertex (or object) moves by up to `10^scale` times the scene's size; `scale` of
+    /// -16 is an ulp or so, 0 the scene's own size.
+    scale: i32,
+    /// A jump of the whole scene to `OFFSETS[jump]`, or none.
+    jump: Option<usize>,
+    /// How many faces get two corners at one point (degenerate), or objects that turn
+    /// into an unbounded plane.
+    collapse: usize,
+}
+
+fn step() -> impl Strategy<Value = Step> {
+    (
+        prop_oneof![Just(-16), Just(-9), -4i32..=0],
+        prop::option::weighted(0.3, 0..OFFSETS.len()),
+        prop_oneof![3 => Just(0usize), 1 => 1usize..4],
+    )
+        .prop_map(|(scale, jump, collapse)| Step {
+            scale,
+            jump,
+            collapse,
+        })
+}
+
+/// The closest hit of the loop over the mesh's faces, ties to the face numbered first.
+fn loop_over_faces(mesh: &TriangleMesh, ray: &Ray) -> Option<(Option<u32>, f64)> {
+    let mut best: Option<(Option<u32>, f64)> = None;
+    for face in mesh.faces() {
+        if let Some(h) = face.hit(ray, FORWARD)
+            && best.is_none_or(|(p, t)| h.t < t || (h.t == t && h.primitive < p))
+        {
+            best = Some((h.primitive, h.t));
+        }
+    }
+    best
+}
+
+/// Rays at the mesh's corners, edges and faces (where watertightness is decided) from
+/// every side and from far away, and rays through its box at random.
+fn rays_at(vertices: &[DVec3], faces: &[[u32; 3]], rng: &mut SplitMix, size: f64) -> Vec<Ray> {
+    let centre = vertices.iter().sum::<DVec3>() / vertices.len() as f64;
+    (0..48)
+        .map(|k| {
+            let face = faces[rng.next_u64() as usize % faces.len()].map(|i| vertices[i as usize]);
+            let target = if k % 4 == 3 {
+                centre + size * (rng.vec3() - 0.5)
+            } else {
+                face_point(rng, face, k)
+            };
+            let distance = size * [2.0, 50.0, 1e6][k % 3];
+            let origin = target - distance * rng.direction();
+            Ray::new(origin, target - origin)
+        })
+        .collect()
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(48))]
+
+    /// After every update of a random sequence, the mesh's tree finds what the loop over
+    /// its faces finds (same face, same `t`) and what a mesh built afresh on the same
+    /// vertices finds; `occluded` agrees with `hit`; faces keep their numbers; and the
+    /// refit or rebuilt tree still answers as well as a rebuild by the cost it reports.
+    #[test]
+    fn a_moving_mesh_answers_as_its_faces_after_every_update(
+        seed in any::<u64>(),
+        start in 0..OFFSETS.len(),
+        size in prop_oneof![Just(1.7e-3), Just(1.1), Just(1.9e3)],
+        steps in prop::collection::vec(step(), 1..6),
+    ) {
+        let mut rng = SplitMix::new(seed);
+        let (unit, faces) = icosphere(1);
+        let rot = rotation(&mut rng);
+        let place = |offset: f64| DVec3::new(offset, -0.5 * offset, 0.25 * offset);
+        prop_assume!(meaningful(OFFSETS[start], size));
+        let mut vertices: Vec<DVec3> =
+            unit.iter().map(|&p| place(OFFSETS[start]) + rot * (size * p)).collect();
+        let mut mesh = TriangleMesh::new(&vertices, &faces).unwrap();
+        for step in steps {
+            let offset = step.jump.map_or(OFFSETS[start], |j| OFFSETS[j]);
+            if !meaningful(offset, size) {
+                continue;
+            }
+            let shift = step.jump.map_or(DVec3::ZERO, |j| place(OFFSETS[j]) - place(OFFSETS[start]));
+            let reach = size * 10f64.powi(step.scale);
+            // Each vertex moves on its own (faces stretch, turn and cross each other).
+            for v in &mut vertices {
+                *v += shift + reach * (rng.vec3() - 0.5);
+            }
+            for _ in 0..step.collapse {
+                let [a, b, _] = faces[rng.next_u64() as usize % faces.len()];
+                vertices[b as usize] = vertices[a as usize];
+            }
+            mesh.set_vertices(&vertices).unwrap();
+            let fresh = TriangleMesh::new(&vertices, &faces).unwrap();
+            prop_assert_eq!(mesh.hittable_face_count(), fresh.hittable_face_count());
+            prop_assert_eq!(mesh.bounding_box(), fresh.bounding_box());
+            prop_assert!(mesh.cost().now.is_finite() && mesh.cost().now > 0.0);
+            for ray in rays_at(&vertices, &faces, &mut rng, size) {
+                let hit = mesh.hit(&ray, FORWARD).map(|h| (h.primitive, h.t));
+                prop_assert_eq!(hit, loop_over_faces(&mesh, &ray), "tree and loop differ");
+                prop_assert_eq!(
+                    hit,
+                    fresh.hit(&ray, FORWARD).map(|h| (h.primitive, h.t)),
+                    "refitted and fresh meshes differ"
+                );
+                prop_assert_eq!(mesh.occluded(&ray, FORWARD), hit.is_some());
+            }
+            for face in mesh.faces() {
+                let [a, b, c] = faces[face.index() as usize];
+                prop_assert_eq!(face.indices(), [a, b, c]);
+                prop_assert_eq!(face.corners(), [a, b, c].map(|i| vertices[i as usize]));
+            }
+            // The same areas summed in two orders (the two trees'): each sum of n positive
+            // terms is within gamma(n - 1) of the exact one, relative to it.
+            let (a, b) = (mesh.area(), fresh.area());
+            prop_assert!((a - b).abs() <= 2.0 * support::gamma(faces.len() as u32) * a, "{a} vs {b}");
+        }
+    }
+
+    /// The same for a tree of mixed objects (quads, triangles, spheres, and planes that are
+    /// unbounded and tested on every ray) whose objects move, jump far away, turn into
+    /// planes and back: after every update the tree finds the object the loop over them
+    /// finds, by the number it was given, and `occluded` agrees with `hit`.
+    #[test]
+    fn a_moving_tree_answers_as_its_objects_after_every_update(
+        seed in any::<u64>(),
+        start in 0..OFFSETS.len(),
+        count in 1usize..40,
+        steps in prop::collection::vec(step(), 1..6),
+    ) {
+        let mut rng = SplitMix::new(seed);
+        let size = 1.1;
+        prop_assume!(meaningful(OFFSETS[start], size));
+        // Object `k` is made from its own seed, where the scene sits plus its own shift,
+        // and is a plane or not: so the caller's list and the tree's slots can be made
+        // alike at any time.
+        let seeds: Vec<u64> = (0..count).map(|_| rng.next_u64()).collect();
+        let mut shifts = vec![DVec3::ZERO; count];
+        let mut planes: Vec<bool> = (0..count).map(|k| k % 13 == 12).collect();
+        let mut offset = DVec3::splat(OFFSETS[start]);
+        let make = |k: usize, offset: DVec3, shifts: &[DVec3], planes: &[bool]| -> Box<dyn Hittable> {
+            let mut rng = SplitMix::new(seeds[k]);
+            let q = offset + shifts[k] + 10.0 * size * rng.vec3();
+            let (u, v) = (size * rng.direction(), size * rng.direction());
+            match (planes[k], rng.next_u64() % 3) {
+                (true, _) => Box::new(Plane::new(q, u, v).unwrap_or_else(|_| Plane::new(q, DVec3::X, DVec3::Y).unwrap())),
+                (_, 0) => Box::new(Sphere::new(q, size * rng.next_f64() + 1e-3).unwrap()),
+                (_, 1) => Box::new(Quad::with_interior(q, u, v, Triangle).unwrap_or_else(|_| Quad::with_interior(q, DVec3::X, DVec3::Y, Triangle).unwrap())),
+                _ => Box::new(Quad::new(q, u, v).unwrap_or_else(|_| Quad::new(q, DVec3::X, DVec3::Y).unwrap())),
+            }
+        };
+        let mut tree = Bvh::new((0..count).map(|k| make(k, offset, &shifts, &planes)).collect());
+        for step in steps {
+            if let Some(j) = step.jump
+                && meaningful(OFFSETS[j], size)
+            {
+                offset = DVec3::splat(OFFSETS[j]);
+            }
+            let reach = size * 10f64.powi(step.scale);
+            for shift in &mut shifts {
+                *shift += reach * (rng.vec3() - 0.5);
+            }
+            for _ in 0..step.collapse {
+                let k = rng.next_u64() as usize % count;
+                planes[k] = !planes[k];
+            }
+            let order: Vec<usize> = (0..tree.len()).map(|i| tree.original_index(i)).collect();
+            tree.update(|slots| {
+                for (slot, &k) in slots.iter_mut().zip(&order) {
+                    *slot = make(k, offset, &shifts, &planes);
+                }
+            });
+            let objects: Vec<Box<dyn Hittable>> =
+                (0..count).map(|k| make(k, offset, &shifts, &planes)).collect();
+            let bbox = objects.iter().fold(hitkit::Aabb::EMPTY, |b, o| b.union(&o.bounding_box()));
+            prop_assert_eq!(tree.bounding_box(), bbox);
+            prop_assert!(tree.cost().now.is_finite());
+            for r in 0..48 {
+                let aim = objects[r % count].bounding_box();
+                let target = if aim.is_bounded() {
+                    aim.min() + (aim.max() - aim.min()) * rng.vec3()
+                } else {
+                    offset + 10.0 * size * rng.vec3()
+                };
+                let origin = target - size * [2.0, 50.0, 1e6][r % 3] * rng.direction();
+                let ray = Ray::new(origin, target - origin);
+                let expected = brute_force(&objects, &ray, FORWARD).map(|(k, h)| (k, h.t));
+                let found = tree.hit_with_index(&ray, FORWARD).map(|(k, h)| (k, h.t));
+                prop_assert_eq!(found, expected, "tree and loop differ");
+                prop_assert_eq!(tree.occluded(&ray, FORWARD), found.is_some());
+            }
+        }
+    }
+}
+
+/// Bad vertices are refused with the build's errors, and leave the mesh as it was.
+#[test]
+fn bad_updates_are_errors_and_change_nothing() {
+    let (vertices, faces) = icosphere(1);
+    let mut mesh = TriangleMesh::new(&vertices, &faces).unwrap();
+    let ray = Ray::new(DVec3::new(0.1, 0.2, 5.0), DVec3::NEG_Z);
+    let before = mesh.hit(&ray, FORWARD).map(|h| (h.primitive, h.t));
+    assert!(before.is_some());
+
+    let mut nan = vertices.clone();
+    nan[7].y = f64::NAN;
+    assert_eq!(
+        mesh.set_vertices(&nan),
+        Err(GeometryError::NonFiniteElement {
+            what: "vertex",
+            index: 7
+        })
+    );
+    assert_eq!(
+        mesh.set_vertices(&vertices[1..]),
+        Err(GeometryError::LengthMismatch {
+            what: "vertices",
+            expected: vertices.len(),
+            found: vertices.len() - 1,
+        })
+    );
+    let mut huge = vertices.clone();
+    huge[3] = DVec3::splat(1e300);
+    assert_eq!(mesh.set_vertices(&huge), Err(GeometryError::OutOfRange));
+    assert_eq!(mesh.hit(&ray, FORWARD).map(|h| (h.primitive, h.t)), before);
+    assert_eq!(mesh.cost().ratio(), 1.0);
+}
+
+/// Normals, uvs and material survive a rebuild that an update forces (a face turning
+/// degenerate), and `set_normals` replaces them.
+#[test]
+fn normals_uvs_and_material_survive_a_forced_rebuild() {
+    let (mut vertices, faces) = icosphere(1);
+    let normals: Vec<DVec3> = vertices.iter().map(|v| v.normalize()).collect();
+    let mut mesh = TriangleMesh::new(&vertices, &faces)
+        .unwrap()
+        .with_normals(&normals)
+        .unwrap()
+        .with_material(hitkit::MaterialId(3));
+    let [a, b, _] = faces[0];
+    vertices[b as usize] = vertices[a as usize];
+    mesh.set_vertices(&vertices).unwrap();
+    // The two faces on the edge from `a` to `b` collapse; the tree is rebuilt without them.
+    assert_eq!(mesh.hittable_face_count(), faces.len() - 2);
+    let ray = Ray::new(DVec3::new(0.1, 0.2, 5.0), DVec3::NEG_Z);
+    let hit = mesh.hit(&ray, FORWARD).unwrap();
+    assert_eq!(hit.material, hitkit::MaterialId(3));
+    let face = mesh
+        .faces()
+        .find(|f| Some(f.index()) == hit.primitive)
+        .unwrap();
+    let shading = hit.shading_normal;
+    // Interpolated from the face's own corners' normals: within the cone they span.
+    for i in face.indices() {
+        assert!(
+            shading.dot(normals[i as usize]) > 0.9,
+            "{shading} vs {}",
+            normals[i as usize]
+        );
+    }
+    let tilted = DVec3::new(1.0, 2.0, 2.0) / 3.0;
+    let flipped = vec![tilted; normals.len()];
+    mesh.set_normals(&flipped).unwrap();
+    assert_eq!(mesh.hit(&ray, FORWARD).unwrap().shading_normal, tilted);
+    assert!(mesh.set_normals(&flipped[1..]).is_err());
+}
