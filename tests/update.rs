@@ -215,6 +215,137 @@ proptest! {
     }
 }
 
+/// One change to a tree in a random sequence.
+#[derive(Clone, Copy, Debug)]
+enum Change {
+    /// A new object (a plane, unbounded, where the flag says so: one in 8).
+    Insert(bool),
+    /// The object of this number (modulo one past the numbers given: some never were,
+    /// some are removed already).
+    Remove(usize),
+    /// Every object moves by up to `10^scale` of the scene's size; the scene may jump.
+    Move(Step),
+    Rebuild,
+}
+
+fn change() -> impl Strategy<Value = Change> {
+    prop_oneof![
+        4 => any::<u8>().prop_map(|b| Change::Insert(b % 8 == 0)),
+        4 => any::<usize>().prop_map(Change::Remove),
+        1 => step().prop_map(Change::Move),
+        1 => Just(Change::Rebuild),
+    ]
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(64))]
+
+    /// Inserts, removes, moves and rebuilds in a random sequence, from a tree of 0 to 30
+    /// objects (quads, triangles, spheres, planes) at offsets to 1e12: after each, the tree
+    /// finds the object (by number) and the `t` that the loop over the live objects finds,
+    /// ties going to the smaller number; `occluded` agrees; removing answers with the
+    /// object of that number, once; numbers are never given twice.
+    #[test]
+    fn inserts_and_removes_answer_as_the_loop(
+        seed in any::<u64>(),
+        start in 0..OFFSETS.len(),
+        count in 0usize..30,
+        changes in prop::collection::vec(change(), 1..40),
+    ) {
+        let mut rng = SplitMix::new(seed);
+        let size = 1.1;
+        prop_assume!(meaningful(OFFSETS[start], size));
+        let mut offset = DVec3::splat(OFFSETS[start]);
+        // Object `k` (its number) is made from its seed, where the scene sits plus its own
+        // shift, and is a plane or not.
+        let mut seeds: Vec<u64> = Vec::new();
+        let mut shifts: Vec<DVec3> = Vec::new();
+        let mut planes: Vec<bool> = Vec::new();
+        let make = |seed: u64, at: DVec3, plane: bool| -> Box<dyn Hittable> {
+            let mut rng = SplitMix::new(seed);
+            let q = at + 10.0 * size * rng.vec3();
+            let (u, v) = (size * rng.direction(), size * rng.direction());
+            match (plane, rng.next_u64() % 3) {
+                (true, _) => Box::new(Plane::new(q, u, v).unwrap_or_else(|_| Plane::new(q, DVec3::X, DVec3::Y).unwrap())),
+                (_, 0) => Box::new(Sphere::new(q, size * rng.next_f64() + 1e-3).unwrap()),
+                (_, 1) => Box::new(Quad::with_interior(q, u, v, Triangle).unwrap_or_else(|_| Quad::with_interior(q, DVec3::X, DVec3::Y, Triangle).unwrap())),
+                _ => Box::new(Quad::new(q, u, v).unwrap_or_else(|_| Quad::new(q, DVec3::X, DVec3::Y).unwrap())),
+            }
+        };
+        for k in 0..count {
+            seeds.push(rng.next_u64());
+            shifts.push(DVec3::ZERO);
+            planes.push(k % 11 == 10);
+        }
+        let mut live: Vec<bool> = vec![true; count];
+        let mut tree = Bvh::new(
+            (0..count).map(|k| make(seeds[k], offset + shifts[k], planes[k])).collect(),
+        );
+        for change in changes {
+            match change {
+                Change::Insert(plane) => {
+                    seeds.push(rng.next_u64());
+                    shifts.push(DVec3::ZERO);
+                    planes.push(plane);
+                    live.push(true);
+                    let k = seeds.len() - 1;
+                    prop_assert_eq!(tree.insert(make(seeds[k], offset, plane)), k);
+                }
+                Change::Remove(pick) => {
+                    let k = pick % (seeds.len() + 1);
+                    let removed = tree.remove(k);
+                    let expected = live.get(k).copied().unwrap_or(false);
+                    prop_assert_eq!(removed.is_some(), expected);
+                    if let Some(object) = removed {
+                        let made = make(seeds[k], offset + shifts[k], planes[k]);
+                        prop_assert_eq!(object.bounding_box(), made.bounding_box());
+                        live[k] = false;
+                    }
+                }
+                Change::Move(step) => {
+                    if let Some(j) = step.jump
+                        && meaningful(OFFSETS[j], size)
+                    {
+                        offset = DVec3::splat(OFFSETS[j]);
+                    }
+                    let reach = size * 10f64.powi(step.scale);
+                    for shift in &mut shifts {
+                        *shift += reach * (rng.vec3() - 0.5);
+                    }
+                    let order: Vec<usize> = (0..tree.len()).map(|i| tree.original_index(i)).collect();
+                    tree.update(|slots| {
+                        for (slot, &k) in slots.iter_mut().zip(&order) {
+                            *slot = make(seeds[k], offset + shifts[k], planes[k]);
+                        }
+                    });
+                }
+                Change::Rebuild => tree.rebuild(),
+            }
+            let numbers: Vec<usize> = (0..seeds.len()).filter(|&k| live[k]).collect();
+            prop_assert_eq!(tree.len(), numbers.len());
+            let objects: Vec<Box<dyn Hittable>> = numbers
+                .iter()
+                .map(|&k| make(seeds[k], offset + shifts[k], planes[k]))
+                .collect();
+            prop_assert!(tree.cost().now.is_finite());
+            for r in 0..24 {
+                let target = if objects.is_empty() || r % 4 == 3 {
+                    offset + 10.0 * size * rng.vec3()
+                } else {
+                    let aim = objects[r % objects.len()].bounding_box();
+                    if aim.is_bounded() { aim.min() + (aim.max() - aim.min()) * rng.vec3() } else { offset }
+                };
+                let origin = target - size * [2.0, 50.0, 1e6][r % 3] * rng.direction();
+                let ray = Ray::new(origin, target - origin);
+                let expected = brute_force(&objects, &ray, FORWARD).map(|(i, h)| (numbers[i], h.t));
+                let found = tree.hit_with_index(&ray, FORWARD).map(|(k, h)| (k, h.t));
+                prop_assert_eq!(found, expected, "tree and loop differ");
+                prop_assert_eq!(tree.occluded(&ray, FORWARD), found.is_some());
+            }
+        }
+    }
+}
+
 /// Bad vertices are refused with the build's errors, and leave the mesh as it was.
 #[test]
 fn bad_updates_are_errors_and_change_nothing() {

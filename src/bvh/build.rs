@@ -118,16 +118,8 @@ pub(super) fn build<T: Hittable>(mut objects: Vec<T>, parallel: bool) -> Bvh<T> 
         tree,
         bbox,
         built_cost,
+        links: super::update::Links::default(),
     }
-}
-
-/// Puts a [`Bvh`]'s objects back in the caller's order, as given to [`Bvh::new`].
-pub(super) fn unpermute<T>(objects: &mut [T], order: &[u32]) {
-    let mut inverse = vec![0u32; order.len()];
-    for (position, &index) in (0u32..).zip(order) {
-        inverse[index as usize] = position;
-    }
-    permute(objects, &inverse);
 }
 
 /// How the surface area heuristic weighs a node against its objects.
@@ -232,6 +224,7 @@ impl Tree {
             rounding,
             compact,
             depth,
+            in_order: true,
             order,
             bounded,
             traversal_cost: shape.traversal_cost,

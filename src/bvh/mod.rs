@@ -4,6 +4,7 @@
 mod build;
 mod refit;
 mod traverse;
+mod update;
 
 pub(crate) use build::Shape;
 
@@ -68,6 +69,8 @@ pub struct Bvh<T> {
     bbox: Aabb,
     /// The tree's [`Tree::sah_cost`] when it was built.
     built_cost: f64,
+    /// What inserting and removing objects needs; empty until the first insert or remove.
+    links: update::Links,
 }
 
 /// A tree's cost by the surface area heuristic, when it was built and now, after updates
@@ -126,6 +129,9 @@ pub(crate) struct Tree {
     compact: bool,
     /// Levels of nodes (0 for an empty tree): what bounds the traversal's stack.
     depth: usize,
+    /// Whether a walk of the nodes, lane by lane, depth first, meets the leaves in the
+    /// objects' order, as the build makes them (an insertion can break it).
+    in_order: bool,
     /// `order[i]`: the caller's position of the object at position `i` of the tree's
     /// order (bounded objects first, then the unbounded ones).
     pub(crate) order: Vec<u32>,
@@ -185,7 +191,8 @@ impl<T: Hittable> Bvh<T> {
         &self.objects
     }
 
-    /// The position, in the `Vec` given to [`Bvh::new`], of `self.objects()[i]`.
+    /// The number of `self.objects()[i]`: its position in the `Vec` given to
+    /// [`Bvh::new`], or the number [`Bvh::insert`] gave it.
     ///
     /// # Panics
     /// If `i >= self.len()`.
@@ -195,68 +202,10 @@ impl<T: Hittable> Bvh<T> {
         self.tree.order[i] as usize
     }
 
-    /// Lets `edit` change the objects (in the BVH's own order: see
-    /// [`Bvh::original_index`]), then refits the tree to where they now are: every box
-    /// recomputed bottom up, the tree's shape and the objects' order kept, so
-    /// [`Bvh::original_index`] and [`Bvh::hit_with_index`] name every object as before. The
-    /// tree answers exactly as the loop over its objects after any update, as after a
-    /// build. Where an object in the tree can no longer be (its box unbounded or empty, or
-    /// past `f32`'s range from the others), the tree is rebuilt instead.
-    ///
-    /// A refit is linear in the objects and never allocates, but the tree it keeps was
-    /// chosen for where the objects were: watch [`Bvh::cost`] and [`Bvh::rebuild`] when it
-    /// has grown too dear.
-    ///
-    /// ```
-    /// use hitkit::glam::DVec3;
-    /// use hitkit::{Bvh, Hittable, Interval, Ray, Sphere};
-    ///
-    /// let mut balls: Bvh<Sphere> =
-    ///     (0..10).map(|i| Sphere::new(DVec3::new(f64::from(i), 0.0, 0.0), 0.25).unwrap()).collect();
-    /// let down = Ray::new(DVec3::new(3.0, 0.0, 5.0), DVec3::NEG_Z);
-    /// assert!(balls.hit(&down, Interval::FORWARD).is_some());
-    ///
-    /// // Every ball moves up by 10; their order, and the numbers they answer by, stay.
-    /// balls.update(|objects| {
-    ///     for ball in objects {
-    ///         *ball = Sphere::new(ball.center() + DVec3::Z * 10.0, ball.radius()).unwrap();
-    ///     }
-    /// });
-    /// assert!(balls.hit(&down, Interval::FORWARD).is_none());
-    /// let (index, hit) = balls.hit_with_index(&Ray::new(DVec3::new(3.0, 0.0, 20.0), DVec3::NEG_Z), Interval::FORWARD).unwrap();
-    /// assert_eq!((index, hit.t), (3, 9.75));
-    /// assert!(!balls.cost().needs_rebuild());
-    /// ```
-    pub fn update(&mut self, edit: impl FnOnce(&mut [T])) {
-        edit(&mut self.objects);
-        let objects = &self.objects;
-        match self.tree.refit(None, |p| objects[p].bounding_box()) {
-            Some(bbox) => self.bbox = bbox,
-            None => self.rebuild(),
-        }
-    }
-
-    /// Builds the tree again over the objects where they are now (as [`Bvh::new`] of them
-    /// in their original order would), keeping the numbers they answer by.
-    pub fn rebuild(&mut self) {
-        let mut objects = core::mem::take(&mut self.objects);
-        build::unpermute(&mut objects, &self.tree.order);
-        *self = build::build(objects, false);
-    }
-
-    /// The tree's cost by the surface area heuristic, now and at its last build: see
-    /// [`TreeCost`] for when to [`Bvh::rebuild`].
-    #[must_use]
-    pub fn cost(&self) -> TreeCost {
-        TreeCost {
-            built: self.built_cost,
-            now: self.tree.sah_cost(),
-        }
-    }
-
-    /// The closest hit and the position of the object hit in the `Vec` given to
-    /// [`Bvh::new`]. Of objects hit at exactly the same `t`, the one given first wins, as
-    /// for a slice.
+    /// The closest hit and the number of the object hit: its position in the `Vec` given
+    /// to [`Bvh::new`], or the number [`Bvh::insert`] gave it. Of objects hit at exactly
+    /// the same `t`, the one of smaller number wins, as the one given first does in a
+    /// slice.
     #[must_use]
     pub fn hit_with_index(&self, ray: &Ray, ray_t: Interval) -> Option<(usize, HitRecord)> {
         // Crossings by `find`; the record of the closest alone.

@@ -13,8 +13,9 @@ impl Tree {
     /// bottom up, about `centre` (or, where it is `None`, the centre of the new boxes of
     /// the objects in the tree, found by a first pass over them), keeping the tree's shape
     /// and order; returns the union of all the boxes, as [`Tree::build`] does. After the
-    /// first pass, `box_of` is called once for each position, in increasing order, so
-    /// that a caller can compute what else it keeps per object along the way.
+    /// first pass, `box_of` is called once for each position, in increasing order for a
+    /// tree as the build made it (`in_order`), so that a caller can compute what else it
+    /// keeps per object along the way.
     ///
     /// `None` where an object in the tree no longer has a bounded box, or has one past
     /// `f32`'s range from the centre: the tree then holds boxes that may not contain
@@ -29,6 +30,7 @@ impl Tree {
             rounding: [0.0; 3],
             compact: true,
             next: 0,
+            in_order: true,
         };
         if !self.nodes.is_empty() {
             // Centred as the build centres: the offsets keep their precision however far
@@ -43,8 +45,8 @@ impl Tree {
             if !self.origin.is_finite() {
                 return None;
             }
+            refit.in_order = self.in_order;
             refit.node(&mut self.nodes, 0, self.origin, &mut box_of)?;
-            debug_assert_eq!(refit.next, self.bounded);
             (self.rounding, self.compact) = (refit.rounding, refit.compact);
         }
         for p in self.bounded..self.order.len() {
@@ -108,7 +110,9 @@ struct Refit {
     /// bound is a copy of one of its leaves').
     rounding: [f64; 3],
     compact: bool,
+    /// Where the tree meets its leaves in the objects' order: the position it expects next.
     next: usize,
+    in_order: bool,
 }
 
 impl Refit {
@@ -127,7 +131,7 @@ impl Refit {
             let (index, count) = (nodes[n].index[k], nodes[n].count[k]);
             let (min, max) = if count > 0 {
                 let first = index as usize;
-                debug_assert_eq!(first, self.next);
+                debug_assert!(!self.in_order || first == self.next);
                 let b =
                     (first..first + count as usize).fold(Aabb::EMPTY, |b, p| b.union(&box_of(p)));
                 self.next = first + count as usize;

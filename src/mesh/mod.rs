@@ -461,6 +461,14 @@ impl TriangleMesh {
         self.faces
     }
 
+    /// How many vertices were given: what [`TriangleMesh::set_vertices`],
+    /// [`TriangleMesh::with_normals`] and [`TriangleMesh::with_uvs`] take one of each for.
+    #[inline]
+    #[must_use]
+    pub fn vertex_count(&self) -> usize {
+        self.vertex_count
+    }
+
     /// How many faces can be hit: those that are not degenerate.
     #[inline]
     #[must_use]

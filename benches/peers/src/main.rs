@@ -861,13 +861,14 @@ fn main() -> ExitCode {
         });
     }
     if args.updates {
-        let (mut times, mut rows) = (Vec::new(), Vec::new());
+        let (mut times, mut rows, mut churns) = (Vec::new(), Vec::new(), Vec::new());
         for scene in &scenes {
             let (t, r) = updates::run(scene, &args);
             times.push(t);
             rows.extend(r);
+            churns.push(updates::churn(scene, &args));
         }
-        updates::print(&times, &rows, &args);
+        updates::print(&times, &rows, &churns, &args);
         return ExitCode::SUCCESS;
     }
     let (mut rows, mut checks, mut warnings) = (Vec::new(), Vec::new(), Vec::new());

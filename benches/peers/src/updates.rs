@@ -1,17 +1,18 @@
 //! `--updates`: what moving a mesh costs. A refit of hitkit's `TriangleMesh`
 //! (`set_vertices`) against its rebuild and against obvhs's refit of its own binary tree on
 //! the same triangles; then the rays a refitted tree traces per second as the deformation
-//! grows, against a tree built afresh on the deformed mesh, with the cost the tree reports.
+//! grows, against a tree built afresh on the deformed mesh, with the cost the tree reports;
+//! and a `Bvh` of the same triangles after a run of inserts and removes, against a rebuild.
 
 use std::hint::black_box;
 use std::time::{Duration, Instant};
 
 use hitkit::glam::DVec3;
-use hitkit::{Hittable, Interval, Ray, TriangleMesh};
+use hitkit::{Bvh, Hittable, Interval, Quad, Ray, Triangle, TriangleMesh};
 use obvhs::BvhBuildParams;
 use obvhs::bvh2::builder::build_bvh2_from_tris;
 
-use super::{Args, Scene, median_time, scene};
+use super::{Args, Scene, median_time, quads, scene};
 
 /// How far the deformation goes, as the largest twist at the mesh's top and bottom: a
 /// point at the top turns by `amount * 90` degrees about the vertical axis through the
@@ -185,8 +186,84 @@ pub(super) fn run(scene: &Scene, args: &Args) -> (String, Vec<String>) {
     (times, rows)
 }
 
+/// How many changes the churn row makes: half removals, half insertions.
+const CHURN: usize = 10_000;
+
+/// A `Bvh<Quad<Triangle>>` of the scene's triangles after [`CHURN`] changes in turn:
+/// a random live triangle removed, then a triangle inserted (the one removed, moved to a
+/// random place in the scene's box); the time of the changes (median of `runs`, each on a
+/// copy of the built tree), of a rebuild of the changed set, and the rays per second of
+/// the changed tree and of the rebuilt one, with their costs.
+pub(super) fn churn(scene: &Scene, args: &Args) -> String {
+    let name = &scene.name;
+    eprintln!("{name}: {CHURN} inserts and removes");
+    let triangles = quads(&scene.tris());
+    let built = Bvh::new(triangles.clone());
+    let bounds = scene::bounds(&scene.tris());
+    let (lo, hi) = bounds;
+    let changes = |mut bvh: Bvh<Quad<Triangle>>| {
+        let mut rng = scene::SplitMix::new(args.seed.wrapping_add(2));
+        let mut live: Vec<usize> = (0..bvh.len()).collect();
+        for _ in 0..CHURN / 2 {
+            let pick = rng.next_u64() as usize % live.len();
+            let number = live.swap_remove(pick);
+            let quad = bvh.remove(number).expect("a live number");
+            let (u, v) = (quad.plane().u(), quad.plane().v());
+            let to = lo + (hi - lo) * rng.vec3();
+            let moved =
+                Quad::with_interior(to - (u + v) / 3.0, u, v, Triangle).expect("a moved triangle");
+            live.push(bvh.insert(moved));
+        }
+        bvh
+    };
+    let (time, changed) = median_time(args.runs, || built.clone(), changes);
+    let set: Vec<Quad<Triangle>> = changed.objects().to_vec();
+    let (rebuild, fresh) = median_time(args.runs, || set.clone(), Bvh::new);
+    let camera = scene::camera_rays(bounds, args.side);
+    let random = scene::random_rays(bounds, args.rays, args.seed.wrapping_add(1));
+    let mut speeds = Vec::new();
+    for rays in [&camera, &random] {
+        let mut hits = Vec::new();
+        for bvh in [&changed, &fresh] {
+            let (t, h) = median_time(
+                args.runs,
+                || (),
+                |()| {
+                    rays.iter()
+                        .map(|ray| {
+                            bvh.hit_with_index(black_box(ray), Interval::FORWARD)
+                                .map(|(_, hit)| hit.t)
+                        })
+                        .collect::<Vec<_>>()
+                },
+            );
+            speeds.push(rays.len() as f64 / t.as_secs_f64() / 1e6);
+            hits.push(h);
+        }
+        // The same objects in both trees: the same hits (of equal `t`; which object of a
+        // tie is named depends on the numbers, which differ between the two).
+        assert!(
+            hits[0] == hits[1],
+            "the changed and the rebuilt tree disagree"
+        );
+    }
+    format!(
+        "| {name} | {} | {} | {:.1} | {} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} |",
+        triangles.len(),
+        CHURN,
+        time.as_secs_f64() * 1e3,
+        ms(rebuild),
+        speeds[0],
+        speeds[1],
+        speeds[2],
+        speeds[3],
+        changed.cost().ratio(),
+        fresh.cost().now / changed.cost().built,
+    )
+}
+
 /// Prints both tables' headers and rows.
-pub(super) fn print(times: &[String], rows: &[String], args: &Args) {
+pub(super) fn print(times: &[String], rows: &[String], churns: &[String], args: &Args) {
     println!(
         "{}; single-threaded; median of {} runs, taken in alternation (hitkit's rebuild, its refit, obvhs's refit; to the mesh twisted by 9 degrees and back)\n",
         scene::machine(),
@@ -207,4 +284,12 @@ pub(super) fn print(times: &[String], rows: &[String], args: &Args) {
     );
     println!("|---|---:|---:|---:|---:|---:|---:|---:|---:|");
     rows.iter().for_each(|r| println!("{r}"));
+    println!(
+        "\nA `Bvh<Quad<Triangle>>` of the same triangles after {CHURN} changes in turn (a random live triangle removed, then that triangle inserted again at a random place in the scene's box), against a `Bvh::new` of the changed set; Mrays/s on the same rays as above; the changed tree's cost against its cost at build, and the rebuilt one's:\n"
+    );
+    println!(
+        "| scene | triangles | changes | changes ms | rebuild ms | changed camera | rebuilt camera | changed random | rebuilt random | changed cost ratio | rebuilt cost ratio |"
+    );
+    println!("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
+    churns.iter().for_each(|r| println!("{r}"));
 }
