@@ -297,7 +297,15 @@ impl TriangleMesh {
                 found: vertices.len(),
             });
         }
-        if let Some(index) = vertices.iter().position(|v| !v.is_finite()) {
+        // One pass over them: finite, and how large.
+        let (mut largest, mut finite) = (0.0f64, true);
+        for v in vertices {
+            let a = v.abs();
+            finite &= a.cmple(DVec3::splat(f64::MAX)).all();
+            largest = largest.max(a.max_element());
+        }
+        if !finite {
+            let index = vertices.iter().position(|v| !v.is_finite()).unwrap_or(0);
             return Err(GeometryError::NonFiniteElement {
                 what: "vertex",
                 index,
@@ -306,9 +314,6 @@ impl TriangleMesh {
         // Every error found before anything changes. A cross product of edges can only
         // overflow past 2^500: its terms are products of two coordinate differences, each
         // below 2^502, and f64 reaches 2^1024.
-        let largest = vertices
-            .iter()
-            .fold(0.0, |m: f64, v| m.max(v.abs().max_element()));
         if largest > LARGEST_UNCHECKED {
             let kept = self
                 .triangles
@@ -330,13 +335,14 @@ impl TriangleMesh {
         {
             return self.rebuild_from(vertices);
         }
-        let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
-        for (k, (v, &i)) in self.vertices.iter_mut().zip(&self.source).enumerate() {
+        for (v, &i) in self.vertices.iter_mut().zip(&self.source) {
             *v = vertices[i as usize];
-            if k < self.hittable_vertices {
-                (lo, hi) = (lo.min(*v), hi.max(*v));
-            }
         }
+        let (lo, hi) = self.vertices[..self.hittable_vertices]
+            .iter()
+            .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), v| {
+                (lo.min(*v), hi.max(*v))
+            });
         // The tree centred on the box of the faces' corners, as the build centres it (on
         // their boxes, grown by an ulp or two: the same centre but for a rounding). The
         // refit meets the faces in order: their areas are summed on the way.
