@@ -324,6 +324,7 @@ impl Tree {
 
     /// Takes the last position off a leaf; a leaf left with none becomes an unused lane.
     fn shrink(&mut self, leaf: u32) {
+        self.in_order = false;
         let (n, k) = (leaf as usize / WIDTH, leaf as usize % WIDTH);
         let node = &mut self.nodes[n];
         node.count[k] -= 1;
@@ -334,6 +335,7 @@ impl Tree {
 
     /// Moves a leaf of one object to position `to`.
     fn move_leaf(&mut self, leaf: u32, to: u32) {
+        self.in_order = false;
         let (n, k) = (leaf as usize / WIDTH, leaf as usize % WIDTH);
         self.nodes[n].index[k] = to;
     }
