@@ -88,14 +88,22 @@ proptest! {
         start in 0..OFFSETS.len(),
         size in prop_oneof![Just(1.7e-3), Just(1.1), Just(1.9e3)],
         steps in prop::collection::vec(step(), 1..6),
+        stray in any::<bool>(),
     ) {
         let mut rng = SplitMix::new(seed);
-        let (unit, faces) = icosphere(1);
+        let (unit, mut faces) = icosphere(1);
         let rot = rotation(&mut rng);
         let place = |offset: f64| DVec3::new(offset, -0.5 * offset, 0.25 * offset);
         prop_assume!(meaningful(OFFSETS[start], size));
         let mut vertices: Vec<DVec3> =
             unit.iter().map(|&p| place(OFFSETS[start]) + rot * (size * p)).collect();
+        if stray {
+            // A vertex far off that only a face degenerate for good (two corners named
+            // alike) names: kept, moved, never hit.
+            vertices.push(place(OFFSETS[start]) + 1e3 * size * DVec3::ONE);
+            let n = vertices.len() as u32 - 1;
+            faces.push([n, n, 0]);
+        }
         let mut mesh = TriangleMesh::new(&vertices, &faces).unwrap();
         for step in steps {
             let offset = step.jump.map_or(OFFSETS[start], |j| OFFSETS[j]);

@@ -297,12 +297,11 @@ impl TriangleMesh {
                 found: vertices.len(),
             });
         }
-        // One pass over them: finite, and how large.
-        let (mut largest, mut finite) = (0.0f64, true);
+        // One pass over them: finite, and their box (so how large).
+        let (mut lo, mut hi, mut finite) = (DVec3::INFINITY, DVec3::NEG_INFINITY, true);
         for v in vertices {
-            let a = v.abs();
-            finite &= a.cmple(DVec3::splat(f64::MAX)).all();
-            largest = largest.max(a.max_element());
+            finite &= v.is_finite();
+            (lo, hi) = (lo.min(*v), hi.max(*v));
         }
         if !finite {
             let index = vertices.iter().position(|v| !v.is_finite()).unwrap_or(0);
@@ -314,6 +313,7 @@ impl TriangleMesh {
         // Every error found before anything changes. A cross product of edges can only
         // overflow past 2^500: its terms are products of two coordinate differences, each
         // below 2^502, and f64 reaches 2^1024.
+        let largest = lo.abs().max(hi.abs()).max_element();
         if largest > LARGEST_UNCHECKED {
             let kept = self
                 .triangles
@@ -338,11 +338,15 @@ impl TriangleMesh {
         for (v, &i) in self.vertices.iter_mut().zip(&self.source) {
             *v = vertices[i as usize];
         }
-        let (lo, hi) = self.vertices[..self.hittable_vertices]
-            .iter()
-            .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), v| {
-                (lo.min(*v), hi.max(*v))
-            });
+        // The box of the hittable faces' corners: the box of every vertex where they use
+        // them all (as they mostly do), else a pass over the ones they use.
+        if self.hittable_vertices != self.vertex_count {
+            (lo, hi) = self.vertices[..self.hittable_vertices]
+                .iter()
+                .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), v| {
+                    (lo.min(*v), hi.max(*v))
+                });
+        }
         // The tree centred on the box of the faces' corners, as the build centres it (on
         // their boxes, grown by an ulp or two: the same centre but for a rounding). The
         // refit meets the faces in order: their areas are summed on the way.
