@@ -17,7 +17,7 @@ use hitkit::{Aabb, Hittable, Interval, MaterialId, Quad, Ray, TriangleMesh};
 use indicatif::{ProgressBar, ProgressStyle};
 
 use common::cli::{Options, check_output, write_png};
-use common::render::{Settings, render};
+use common::render::render;
 use common::scenes::load_obj;
 use common::{Background, CameraSettings, Color, Material, Scene};
 
@@ -240,14 +240,8 @@ fn main() -> ExitCode {
             shutter: false,
         },
     };
-    let settings = Settings {
-        samples: options.samples,
-        max_depth: options.depth,
-        roulette: options.roulette,
-        seed: options.seed,
-        threads: options.threads,
-        progress: false,
-    };
+    // The bar is over the frames, not each frame's rows.
+    let settings = options.settings(false);
 
     let bar = ProgressBar::new(frames as u64);
     if let Ok(style) =

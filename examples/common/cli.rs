@@ -58,6 +58,18 @@ impl Options {
         )
     }
 
+    /// The render settings these options ask for, with a progress bar or without.
+    pub fn settings(&self, progress: bool) -> Settings {
+        Settings {
+            samples: self.samples,
+            max_depth: self.depth,
+            roulette: self.roulette,
+            seed: self.seed,
+            threads: self.threads,
+            progress,
+        }
+    }
+
     /// These options changed by `args` (the command line without the program's name);
     /// `Ok(None)` for `--help`, an error naming the flag for a bad or out-of-range value.
     pub fn parse(mut self, args: impl IntoIterator<Item = String>) -> Result<Option<Self>, String> {
@@ -145,14 +157,7 @@ pub fn run_with<W: Hittable>(
             return ExitCode::from(2);
         }
     };
-    let settings = Settings {
-        samples: options.samples,
-        max_depth: options.depth,
-        roulette: options.roulette,
-        seed: options.seed,
-        threads: options.threads,
-        progress: true,
-    };
+    let settings = options.settings(true);
     let start = Instant::now();
     let image = match render(&scene, &settings, scene.effects()) {
         Ok(image) => image,
