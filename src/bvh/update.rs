@@ -132,7 +132,7 @@ impl<T: Hittable> Bvh<T> {
         let number32 = u32::try_from(number)
             .ok()
             .filter(|&n| n != REMOVED)
-            .expect("a Bvh gives at most u32::MAX - 1 numbers");
+            .expect("a Bvh gives at most u32::MAX numbers");
         let b = object.bounding_box();
         self.bbox = self.bbox.union(&b);
         let last = self.objects.len();
