@@ -8,7 +8,7 @@ use alloc::vec::Vec;
 
 use glam::{DVec3, Vec4};
 
-use super::{Bvh, MAX_DEPTH, Node, Tree, WIDTH};
+use super::{Bounds, Bvh, MAX_DEPTH, Node, Tree, WIDTH};
 use crate::math::Dd;
 use crate::{Aabb, Hittable};
 
@@ -238,29 +238,54 @@ impl Tree {
 /// `Tree::compact` hold.
 fn rounding(nodes: &[Node], origin: DVec3) -> ([f64; 3], bool) {
     let (mut rounding, mut compact) = ([0.0; 3], true);
-    // How far `origin + bound` rounds, bound by bound (exactly, by two-sum): mostly not at
-    // all, since the build picks offsets whose sum lands on the box's own coordinates; but
-    // an ulp of the origin where it cannot (about 1e-4 at 1e12), which a bound from the
-    // magnitudes alone would charge every node.
     for node in nodes {
-        for (side, bounds) in node.bounds.iter().enumerate() {
-            let axis = side % 3;
-            for &f in bounds.iter().filter(|f| f.is_finite()) {
-                compact &= f64::from(f).abs() <= (1u64 << 60) as f64;
-                let error = Dd::diff(origin[axis], -f64::from(f)).lo.abs();
-                rounding[axis] = f64::max(rounding[axis], error);
-            }
+        for k in 0..WIDTH {
+            cover(&mut rounding, &mut compact, origin, &node.lane(k));
         }
     }
     (rounding, compact)
+}
+
+/// Grows `rounding` and `compact` (as [`rounding`] gives them) to cover the finite bounds
+/// of a box about `origin`. How far `origin + bound` rounds is found bound by bound
+/// (exactly, by two-sum): mostly not at all, since [`below`] and [`above`] pick offsets
+/// whose sum lands on the box's own coordinates; but an ulp of the origin where it cannot
+/// (about 1e-4 at 1e12), which a bound from the magnitudes alone would charge every node.
+pub(super) fn cover(
+    rounding: &mut [f64; 3],
+    compact: &mut bool,
+    origin: DVec3,
+    (min, max): &Bounds,
+) {
+    for a in 0..3 {
+        for f in [min[a], max[a]].into_iter().filter(|f| f.is_finite()) {
+            *compact &= f64::from(f).abs() <= (1u64 << 60) as f64;
+            let error = Dd::diff(origin[a], -f64::from(f)).lo.abs();
+            rounding[a] = f64::max(rounding[a], error);
+        }
+    }
+}
+
+/// `b` as offsets from `origin`, rounded outward by [`below`] and [`above`]; `None` where
+/// `b` is not bounded or an offset is past `f32`'s range.
+pub(super) fn offsets(b: &Aabb, origin: DVec3) -> Option<Bounds> {
+    if !b.is_bounded() {
+        return None;
+    }
+    let min = [0, 1, 2].map(|a| below(b.min()[a], origin[a]));
+    let max = [0, 1, 2].map(|a| above(b.max()[a], origin[a]));
+    min.iter()
+        .chain(&max)
+        .all(|f| f.is_finite())
+        .then_some((min, max))
 }
 
 /// The binary tree of `pairs` under `root` as nodes of up to four children, appended to
 /// `nodes` parents first: each node takes its two children, then, while it has a free
 /// lane, opens the inner child of largest surface area (the one a ray most often enters)
 /// in place of it. Lanes keep the binary tree's left-to-right order, so that a walk of the
-/// nodes, lane by lane, depth first, meets the leaves in the objects' order. A root that is a leaf becomes a node of one child. Returns the levels
-/// of nodes.
+/// nodes, lane by lane, depth first, meets the leaves in the objects' order. A root that
+/// is a leaf becomes a node of one child. Returns the levels of nodes.
 fn collapse(pairs: &[Pair], root: Child, nodes: &mut Vec<Node>) -> usize {
     let slot = nodes.len();
     nodes.push(Node {
@@ -673,9 +698,7 @@ pub(super) fn above(x: f64, origin: f64) -> f32 {
 }
 
 /// The largest `f32` at or below `x` (NaN for NaN), without a branch: rounded to nearest,
-/// then, where that went up, its neighbour toward `-inf`, one step of its bits (toward
-/// zero for a positive, away from it for a negative, `-0.0` to the smallest negative
-/// subnormal, `+inf` to `f32::MAX`).
+/// then, where that went up, its [`step_down`].
 #[inline]
 fn round_down(x: f64) -> f32 {
     let f = x as f32;

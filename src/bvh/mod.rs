@@ -37,6 +37,27 @@ struct Node {
     count: [u32; WIDTH],
 }
 
+/// A lane's box as a node holds it: lower and upper offsets from the tree's origin.
+type Bounds = ([f32; 3], [f32; 3]);
+
+impl Node {
+    /// Lane `k`'s box.
+    #[inline]
+    fn lane(&self, k: usize) -> Bounds {
+        (
+            [0, 1, 2].map(|a| self.bounds[a][k]),
+            [0, 1, 2].map(|a| self.bounds[3 + a][k]),
+        )
+    }
+}
+
+/// Half the surface area of a box (0 if it is empty), in `f64`.
+fn half_area((min, max): &Bounds) -> f64 {
+    let d = DVec3::from_array([0, 1, 2].map(|a| f64::from(max[a]) - f64::from(min[a])))
+        .max(DVec3::ZERO);
+    d.x * d.y + d.y * d.z + d.z * d.x
+}
+
 /// A bounding volume hierarchy: the closest hit (or any hit) among many objects without
 /// testing them all.
 ///

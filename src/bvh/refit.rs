@@ -3,10 +3,9 @@
 
 use glam::DVec3;
 
-use super::build::{above, below};
-use super::{Node, Tree, WIDTH};
+use super::build::{cover, offsets};
+use super::{Bounds, Node, Tree, WIDTH, half_area};
 use crate::Aabb;
-use crate::math::Dd;
 
 impl Tree {
     /// Recomputes every node's boxes from `box_of` (by position in the tree's order),
@@ -64,21 +63,15 @@ impl Tree {
         let Some(root) = self.nodes.first() else {
             return 0.0;
         };
-        let area = |node: &Node, k: usize| {
-            let d = DVec3::from_array(
-                [0, 1, 2].map(|a| f64::from(node.bounds[3 + a][k]) - f64::from(node.bounds[a][k])),
-            )
-            .max(DVec3::ZERO);
-            d.x * d.y + d.y * d.z + d.z * d.x
-        };
-        let (mut root_min, mut root_max) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
-        for k in 0..WIDTH {
-            let lane = |a: usize| f64::from(root.bounds[a][k]);
-            root_min = root_min.min(DVec3::new(lane(0), lane(1), lane(2)));
-            root_max = root_max.max(DVec3::new(lane(3), lane(4), lane(5)));
-        }
-        let d = (root_max - root_min).max(DVec3::ZERO);
-        let root_area = d.x * d.y + d.y * d.z + d.z * d.x;
+        let root_area = half_area(&(0..WIDTH).map(|k| root.lane(k)).fold(
+            ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]),
+            |(lo, hi), (min, max)| {
+                (
+                    [0, 1, 2].map(|a| lo[a].min(min[a])),
+                    [0, 1, 2].map(|a| hi[a].max(max[a])),
+                )
+            },
+        ));
         let mut cost = 0.0;
         for node in &self.nodes {
             for k in 0..WIDTH {
@@ -89,7 +82,7 @@ impl Tree {
                 } else {
                     continue;
                 };
-                cost += area(node, k) * weight;
+                cost += half_area(&node.lane(k)) * weight;
             }
         }
         // A flat tree (every object in one point, say) has no area to weigh by: each ray
@@ -125,7 +118,7 @@ impl Refit {
         n: usize,
         origin: DVec3,
         box_of: &mut impl FnMut(usize) -> Aabb,
-    ) -> Option<([f32; 3], [f32; 3])> {
+    ) -> Option<Bounds> {
         let (mut node_min, mut node_max) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
         for k in 0..WIDTH {
             let (index, count) = (nodes[n].index[k], nodes[n].count[k]);
@@ -135,24 +128,10 @@ impl Refit {
                 let b =
                     (first..first + count as usize).fold(Aabb::EMPTY, |b, p| b.union(&box_of(p)));
                 self.next = first + count as usize;
-                if !b.is_bounded() {
-                    return None;
-                }
+                let bounds = offsets(&b, origin)?;
                 self.all = self.all.union(&b);
-                let (lo, hi, o) = (b.min(), b.max(), origin);
-                let min = [0, 1, 2].map(|a| below(lo[a], o[a]));
-                let max = [0, 1, 2].map(|a| above(hi[a], o[a]));
-                for a in 0..3 {
-                    for f in [min[a], max[a]] {
-                        if !f.is_finite() {
-                            return None;
-                        }
-                        self.compact &= f64::from(f).abs() <= (1u64 << 60) as f64;
-                        let error = Dd::diff(o[a], -f64::from(f)).lo.abs();
-                        self.rounding[a] = f64::max(self.rounding[a], error);
-                    }
-                }
-                (min, max)
+                cover(&mut self.rounding, &mut self.compact, origin, &bounds);
+                bounds
             } else if index != 0 {
                 // An inner child (the root, node 0, is no one's child).
                 self.node(nodes, index as usize, origin, box_of)?

@@ -3,11 +3,8 @@
 
 use alloc::vec::Vec;
 
-use glam::DVec3;
-
-use super::build::{above, below, build};
-use super::{Bvh, MAX_DEPTH, Node, Tree, TreeCost, WIDTH};
-use crate::math::Dd;
+use super::build::{build, cover, offsets};
+use super::{Bounds, Bvh, MAX_DEPTH, Node, Tree, TreeCost, WIDTH, half_area};
 use crate::{Aabb, Hittable};
 
 /// What inserting and removing objects needs, made at the first insert or remove (a tree
@@ -272,9 +269,6 @@ impl<T: Hittable> Bvh<T> {
     }
 }
 
-/// A leaf's box as a node holds it: lower and upper offsets from the tree's origin.
-type Bounds = ([f32; 3], [f32; 3]);
-
 /// Where [`Tree::place`] put a leaf.
 struct Placed {
     /// The new leaf, as `node * WIDTH + lane`.
@@ -297,20 +291,9 @@ impl Tree {
             self.origin = 0.5 * b.min() + 0.5 * b.max();
             (self.rounding, self.compact) = ([0.0; 3], true);
         }
-        let o = self.origin;
-        let min = [0, 1, 2].map(|a| below(b.min()[a], o[a]));
-        let max = [0, 1, 2].map(|a| above(b.max()[a], o[a]));
-        if !min.iter().chain(&max).all(|f| f.is_finite()) {
-            return None;
-        }
-        for a in 0..3 {
-            for f in [min[a], max[a]] {
-                self.compact &= f64::from(f).abs() <= (1u64 << 60) as f64;
-                let error = Dd::diff(o[a], -f64::from(f)).lo.abs();
-                self.rounding[a] = f64::max(self.rounding[a], error);
-            }
-        }
-        Some((min, max))
+        let bounds = offsets(b, self.origin)?;
+        cover(&mut self.rounding, &mut self.compact, self.origin, &bounds);
+        Some(bounds)
     }
 
     /// The first position and count of the leaf `node * WIDTH + lane`.
@@ -388,7 +371,7 @@ impl Tree {
             let m = self.nodes.len();
             let old = &self.nodes[n];
             let (first, count) = (old.index[best], old.count[best]);
-            let old_bounds = lane_bounds_of(old, best);
+            let old_bounds = old.lane(best);
             let mut node = empty_node();
             set_leaf(&mut node, 0, first, count, old_bounds);
             set_leaf(&mut node, 1, position, 1, bounds);
@@ -445,13 +428,6 @@ fn set_leaf(node: &mut Node, k: usize, first: u32, count: u32, (min, max): Bound
     }
 }
 
-fn lane_bounds_of(node: &Node, k: usize) -> Bounds {
-    (
-        [0, 1, 2].map(|a| node.bounds[a][k]),
-        [0, 1, 2].map(|a| node.bounds[3 + a][k]),
-    )
-}
-
 /// Grows lane `k`'s box to hold `bounds`.
 fn grow(node: &mut Node, k: usize, (min, max): Bounds) {
     for a in 0..3 {
@@ -460,22 +436,15 @@ fn grow(node: &mut Node, k: usize, (min, max): Bounds) {
     }
 }
 
-/// Half the surface area of a box given by its lower and upper offsets (0 if empty).
-fn half_area(min: [f32; 3], max: [f32; 3]) -> f64 {
-    let d = DVec3::from_array([0, 1, 2].map(|a| f64::from(max[a]) - f64::from(min[a])))
-        .max(DVec3::ZERO);
-    d.x * d.y + d.y * d.z + d.z * d.x
-}
-
 /// How much lane `k`'s box grows, in surface area, to hold `bounds`; ties (no growth) go
 /// to the smaller box, by a term far below any growth.
 fn growth(node: &Node, k: usize, (min, max): &Bounds) -> f64 {
-    let (lo, hi) = lane_bounds_of(node, k);
-    let before = half_area(lo, hi);
-    let after = half_area(
+    let (lo, hi) = node.lane(k);
+    let before = half_area(&(lo, hi));
+    let after = half_area(&(
         [0, 1, 2].map(|a| lo[a].min(min[a])),
         [0, 1, 2].map(|a| hi[a].max(max[a])),
-    );
+    ));
     (after - before) + before * f64::EPSILON
 }
 

@@ -243,13 +243,16 @@ impl TriangleMesh {
     fn sum_areas(&mut self) {
         let mut total = 0.0;
         self.area_sums.clear();
-        self.area_sums
-            .extend(self.triangles.chunks(AREA_BLOCK).map(|block| {
-                for &face in block {
-                    total += face_area(corners(&self.vertices, face));
-                }
-                total
-            }));
+        for (p, &face) in self.triangles.iter().enumerate() {
+            let area = face_area(corners(&self.vertices, face));
+            add_area(
+                &mut self.area_sums,
+                &mut total,
+                p,
+                self.triangles.len(),
+                area,
+            );
+        }
     }
 
     /// Moves the vertices to `vertices` (one for each the mesh was built from, in the
@@ -357,10 +360,7 @@ impl TriangleMesh {
             let face = corners(positions, triangles[p]);
             let n = cross(face);
             degenerate |= n == DVec3::ZERO;
-            total += area_of(n);
-            if p % AREA_BLOCK == AREA_BLOCK - 1 || p + 1 == triangles.len() {
-                sums.push(total);
-            }
+            add_area(sums, &mut total, p, triangles.len(), area_of(n));
             face_box(face)
         });
         match refitted {
@@ -768,6 +768,17 @@ fn cross([a, b, c]: [DVec3; 3]) -> DVec3 {
 #[inline(always)]
 fn face_area(p: [DVec3; 3]) -> f64 {
     area_of(cross(p))
+}
+
+/// Adds the area of the face at position `p` of `faces` to the running `total`, and keeps
+/// the total at the end of each block of [`AREA_BLOCK`] faces (and of the last): the one
+/// way the running sums are made, so that a sampled face is the same however they were.
+#[inline(always)]
+fn add_area(sums: &mut Vec<f64>, total: &mut f64, p: usize, faces: usize, area: f64) {
+    *total += area;
+    if p % AREA_BLOCK == AREA_BLOCK - 1 || p + 1 == faces {
+        sums.push(*total);
+    }
 }
 
 /// The area of a face whose [`cross`] is `n`.
