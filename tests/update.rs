@@ -271,6 +271,8 @@ enum Change {
     /// Every object moves by up to `10^scale` of the scene's size; the scene may jump.
     Move(Step),
     Rebuild,
+    /// `Bvh::optimize` with this share of the leaves.
+    Optimize(f64),
 }
 
 fn change() -> impl Strategy<Value = Change> {
@@ -279,13 +281,14 @@ fn change() -> impl Strategy<Value = Change> {
         4 => any::<usize>().prop_map(Change::Remove),
         1 => step().prop_map(Change::Move),
         1 => Just(Change::Rebuild),
+        2 => prop_oneof![Just(0.0), 0.0..1.0, Just(1.0)].prop_map(Change::Optimize),
     ]
 }
 
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(64))]
 
-    /// Inserts, removes, moves and rebuilds in a random sequence, from a tree of 0 to 30
+    /// Inserts, removes, moves, rebuilds and optimizations in a random sequence, from a tree of 0 to 30
     /// objects (quads, triangles, spheres, planes) at offsets to 1e12: after each, the tree
     /// finds the object (by number) and the `t` that the loop over the live objects finds,
     /// ties going to the smaller number; `occluded` agrees; removing answers with the
@@ -354,6 +357,7 @@ proptest! {
                     });
                 }
                 Change::Rebuild => tree.rebuild(),
+                Change::Optimize(share) => tree.optimize(share),
             }
             let numbers: Vec<usize> = (0..seeds.len()).filter(|&k| live[k]).collect();
             prop_assert_eq!(tree.len(), numbers.len());

@@ -228,6 +228,7 @@ impl Tree {
             order,
             bounded,
             traversal_cost: shape.traversal_cost,
+            spare: Vec::new(),
         };
         (tree, bbox)
     }

@@ -160,6 +160,8 @@ pub(crate) struct Tree {
     bounded: usize,
     /// What a node visit costs against one object test, as the build weighed it.
     traversal_cost: f64,
+    /// Nodes no lane leads to any more (left empty by updates), for new nodes to reuse.
+    spare: Vec<u32>,
 }
 
 impl Tree {

@@ -866,7 +866,7 @@ fn main() -> ExitCode {
             let (t, r) = updates::run(scene, &args);
             times.push(t);
             rows.extend(r);
-            churns.push(updates::churn(scene, &args));
+            churns.extend(updates::churn(scene, &args));
         }
         updates::print(&times, &rows, &churns, &args);
         return ExitCode::SUCCESS;
