@@ -305,7 +305,7 @@ pub(super) fn print(times: &[String], rows: &[String], churns: &[String], args: 
     println!("|---|---:|---:|---:|---:|---:|---:|---:|---:|");
     rows.iter().for_each(|r| println!("{r}"));
     println!(
-        "\nA `Bvh<Quad<Triangle>>` of the same triangles after {CHURN} changes in turn (a random live triangle removed, then that triangle inserted again at a random place in the scene's box); that tree mended by `Bvh::optimize` (every box shrunk to what it holds, then the given share of the leaves reinserted), and rebuilt from scratch. The time each took (the changes, the optimization of the changed tree, the rebuild), Mrays/s on the same rays as above, and each tree's cost against the cost of the tree first built:\n"
+        "\nA `Bvh<Quad<Triangle>>` of the same triangles after {CHURN} changes in turn (a random live triangle removed, then that triangle inserted again at a random place in the scene's box); that tree mended by `Bvh::optimize` (every box shrunk to what it holds, then the given share of its lanes, leaves and subtrees, taken out and put back where the heuristic places them), and rebuilt from scratch. The time each took (the changes, the optimization of the changed tree, the rebuild), Mrays/s on the same rays as above, and each tree's cost against the cost of the tree first built:\n"
     );
     println!("| scene | triangles | tree | ms | camera | random | cost ratio |");
     println!("|---|---:|---|---:|---:|---:|---:|");
