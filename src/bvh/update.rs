@@ -131,13 +131,17 @@ impl<T: Hittable> Bvh<T> {
         if self.tree.nodes.is_empty() {
             return;
         }
-        self.link();
-        self.tree.tighten(0);
-        let mut lineage = self.tree.lineage();
+        // Shrinking may leave nodes empty, and the tree shallower.
+        self.tree.depth = self.tree.tighten(0).map_or(1, |(_, height)| height);
         // What the worst lanes hold: found again by it, as lanes move.
         let worst: Vec<(u32, u32)> = (self.tree.worst_lanes(share).into_iter())
             .map(|id| self.tree.holds(id))
             .collect();
+        if worst.is_empty() {
+            return;
+        }
+        self.link();
+        let mut lineage = self.tree.lineage();
         for (index, count) in worst {
             let id = if count > 0 {
                 self.links.leaf_of[index as usize]
@@ -586,8 +590,16 @@ impl Tree {
     /// surface area), the `share` of all lanes in use at most, worst first; only those
     /// whose node does shrink.
     fn worst_lanes(&self, share: f64) -> Vec<u32> {
+        let lanes = self
+            .nodes
+            .iter()
+            .flat_map(|node| (0..WIDTH).map(|k| in_use(node, k)));
+        // `as` takes NaN to 0.
+        let keep = (lanes.filter(|&used| used).count() as f64 * share.clamp(0.0, 1.0)) as usize;
+        if keep == 0 {
+            return Vec::new();
+        }
         let mut scored: Vec<(f64, u32)> = Vec::new();
-        let mut lanes = 0;
         for (n, node) in self.nodes.iter().enumerate() {
             // An unused lane's box is empty: nothing in a union.
             let without = |skip: usize| {
@@ -597,15 +609,12 @@ impl Tree {
             };
             let whole = half_area(&without(WIDTH));
             for k in (0..WIDTH).filter(|&k| in_use(node, k)) {
-                lanes += 1;
                 let gain = whole - half_area(&without(k));
                 if gain > 0.0 {
                     scored.push((gain, (n * WIDTH + k) as u32));
                 }
             }
         }
-        // `as` takes NaN to 0.
-        let keep = (f64::from(lanes) * share.clamp(0.0, 1.0)) as usize;
         let worst_first = |a: &(f64, u32), b: &(f64, u32)| b.0.total_cmp(&a.0);
         if keep < scored.len() {
             scored.select_nth_unstable_by(keep, worst_first);
