@@ -128,7 +128,7 @@ pub use interval::Interval;
 #[cfg(feature = "rand")]
 #[cfg_attr(docsrs, doc(cfg(feature = "rand")))]
 pub use light::RandomDirection;
-pub use light::{Mixture, Polygon, SampleInterior, Sampling};
+pub use light::{Emission, LightTree, Mixture, Polygon, SampleInterior, Sampling, WithNormal};
 pub use mesh::{Face, TriangleMesh};
 pub use moving::Moving;
 pub use plane::{CrossingRegion, Plane, PlaneHit};

@@ -19,8 +19,8 @@ use std::ops::RangeInclusive;
 
 use hitkit::glam::{DQuat, DVec2, DVec3};
 use hitkit::{
-    Aabb, Disk, HitRecord, Hittable, Interval, Mixture, PdfHittable, Quad, Ray, Ring, Sampling,
-    Sphere, Transformed, Triangle,
+    Aabb, Disk, Emission, HitRecord, Hittable, Interval, LightTree, Mixture, PdfHittable, Quad,
+    Ray, Ring, Sampling, Sphere, Transformed, Triangle,
 };
 use support::SplitMix;
 
@@ -68,8 +68,8 @@ const STEEP: f64 = 1.25;
 /// chi-square approximation to hold).
 const MIN_EXPECTED: f64 = 5.0;
 
-/// The standard normal quantile at `1 - 1e-5`: the significance of each case. With 27 cases
-/// in the file, a correct sampler would fail a run with probability about 2.7e-4 (were the
+/// The standard normal quantile at `1 - 1e-5`: the significance of each case. With 32 cases
+/// in the file, a correct sampler would fail a run with probability about 3.2e-4 (were the
 /// seeds not fixed).
 const Z: f64 = 4.264_890_793_922_825;
 
@@ -626,6 +626,46 @@ fn spheres_draw_what_their_density_says_from_near_far_and_inside() {
 #[test]
 fn a_mixture_of_lights_draws_what_its_density_says() {
     assert_samplers_follow_their_densities(mixtures(), 500);
+}
+
+/// The four lights in a light tree (each light's emission as its shape has it: the
+/// square facing down, the disk and the triangle both ways, the sphere everywhere), of
+/// powers far apart, one of them 0: the walk's choices vary with the origin, so from each
+/// origin the density must follow them; with a normal, lights below the horizon drop out.
+fn light_trees() -> Vec<Case> {
+    let tree = || {
+        let emission = [
+            Emission::OneSide(DVec3::NEG_Y),
+            Emission::BothSides(DVec3::X),
+            Emission::BothSides(DVec3::Y),
+            Emission::Everywhere,
+        ];
+        LightTree::new(support::four_lights(), &[4.0, 100.0, 0.0, 0.5], &emission).unwrap()
+    };
+    let (among, outside) = (DVec3::new(0.2, 0.3, -0.1), DVec3::new(4.0, 3.0, 5.0));
+    let below = DVec3::new(-0.5, 1.0, -0.5);
+    // The trees live as long as the test: `with_normal` borrows one.
+    let leaked: &'static LightTree<Box<dyn PdfHittable>> = Box::leak(Box::new(tree()));
+    vec![
+        case("light tree, from among the lights", tree(), among),
+        case("light tree, from outside", tree(), outside),
+        case("light tree, under the square", tree(), below),
+        case(
+            "light tree seen from a surface facing up, from among the lights",
+            leaked.with_normal(DVec3::Y),
+            among,
+        ),
+        case(
+            "light tree seen from a tilted surface, from outside",
+            leaked.with_normal(DVec3::new(-1.0, -0.2, -1.0)),
+            outside,
+        ),
+    ]
+}
+
+#[test]
+fn a_light_tree_draws_what_its_density_says() {
+    assert_samplers_follow_their_densities(light_trees(), 700);
 }
 
 /// A sampler with a small bug: the square's, fed `u.x^1.05` for `u.x`, while its density

@@ -7,7 +7,8 @@
 //!   by area.
 //! - `spherical.rs`: the solid-angle samplers of rectangles and triangles.
 //! - `uniform.rs`: a slice, `Vec` or [`Bvh`](crate::Bvh) of lights as their uniform
-//!   mixture; [`Mixture`] (`mixture.rs`): lights picked by weight.
+//!   mixture; [`Mixture`] (`mixture.rs`): lights picked by weight; [`LightTree`]
+//!   (`tree.rs`): lights picked by their importance from the shading point.
 //! - `RandomDirection` (`random.rs`, the `rand` feature): a light sampled with a `rand`
 //!   generator.
 //!
@@ -21,6 +22,7 @@ mod mixture;
 mod random;
 mod sampling;
 mod spherical;
+mod tree;
 mod uniform;
 
 pub use interior::{Polygon, SampleInterior};
@@ -29,6 +31,7 @@ pub use mixture::Mixture;
 pub use random::RandomDirection;
 pub use sampling::Sampling;
 pub(crate) use spherical::{Spherical, View};
+pub use tree::{Emission, LightTree, WithNormal};
 
 use glam::{DVec2, DVec3};
 
