@@ -101,7 +101,7 @@ fn solid_angle_sampling_has_less_variance_near_the_light() {
     ] {
         let mut direct = |sampling| {
             let scene = cornell_scene(8, sampling);
-            let lamp = &scene.lights[0];
+            let lamp = &scene.lights.list()[0];
             let (mut sum, mut sum2) = (0.0, 0.0);
             for _ in 0..n {
                 let u = DVec2::new(rng.random(), rng.random());
@@ -143,7 +143,7 @@ fn solid_angle_sampling_has_less_variance_near_the_light() {
 fn russian_roulette_keeps_the_mean_of_the_books_final_scene() {
     let scene = cornell_book_scene(24);
     let effects = scene.effects();
-    assert!(effects.light_sampling && effects.emission && scene.lights.len() == 2);
+    assert!(effects.light_sampling && effects.emission && scene.lights.list().len() == 2);
     let with = |roulette, seed| {
         let settings = Settings {
             roulette,

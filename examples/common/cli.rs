@@ -35,7 +35,7 @@ pub struct Options {
 }
 
 impl Options {
-    fn usage(&self, example: &str) -> String {
+    pub fn usage(&self, example: &str) -> String {
         format!(
             "Renders the {example} scene to a PNG.\n\n\
              Usage: cargo run --release --example {example} -- [OPTIONS]\n\n\

@@ -12,8 +12,8 @@ pub mod material;
 pub mod render;
 pub mod scenes;
 
-use hitkit::glam::DVec3;
-use hitkit::{Hittable, PdfHittable};
+use hitkit::glam::{DVec2, DVec3};
+use hitkit::{Hittable, LightTree, Mixture, PdfHittable};
 
 pub use camera::CameraSettings;
 pub use material::Material;
@@ -67,13 +67,66 @@ impl Effects {
     };
 }
 
+/// The lights a render aims at, and how it picks one: what a renderer swaps to trade one
+/// of hitkit's samplers for another.
+pub enum Lights {
+    /// Each equally often: hitkit's uniform mixture over a list.
+    Uniform(Vec<Box<dyn PdfHittable>>),
+    /// By fixed weights (their power, say): a `Mixture`.
+    Weighted(Mixture<Box<dyn PdfHittable>>),
+    /// By their importance from the shading point and normal: a `LightTree`.
+    Tree(LightTree<Box<dyn PdfHittable>>),
+}
+
+impl Default for Lights {
+    fn default() -> Self {
+        Lights::Uniform(Vec::new())
+    }
+}
+
+impl Lights {
+    /// The lights themselves, in the order given.
+    pub fn list(&self) -> &[Box<dyn PdfHittable>] {
+        match self {
+            Lights::Uniform(lights) => lights,
+            Lights::Weighted(mixture) => mixture.lights(),
+            Lights::Tree(tree) => tree.lights(),
+        }
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.list().is_empty()
+    }
+
+    /// A direction toward a light from `point` on a surface facing `normal`.
+    #[inline]
+    pub fn sample(&self, point: DVec3, normal: DVec3, u: DVec2) -> DVec3 {
+        match self {
+            Lights::Uniform(lights) => lights.as_slice().sample_direction(point, u),
+            Lights::Weighted(mixture) => mixture.sample_direction(point, u),
+            Lights::Tree(tree) => tree.with_normal(normal).sample_direction(point, u),
+        }
+    }
+
+    /// The density of [`Lights::sample`]'s directions.
+    #[inline]
+    pub fn pdf(&self, point: DVec3, normal: DVec3, direction: DVec3) -> f64 {
+        match self {
+            Lights::Uniform(lights) => lights.as_slice().pdf_value(point, direction),
+            Lights::Weighted(mixture) => mixture.pdf_value(point, direction),
+            Lights::Tree(tree) => tree.with_normal(normal).pdf_value(point, direction),
+        }
+    }
+}
+
 /// A scene: what to trace, what it is made of, its lights, its background and its camera.
 pub struct Scene<W> {
     pub world: W,
     /// Indexed by the hit record's `MaterialId`.
     pub materials: Vec<Material>,
-    /// Shapes to sample directions toward (usually the emissive ones).
-    pub lights: Vec<Box<dyn PdfHittable>>,
+    /// Shapes to sample directions toward (usually the emissive ones), and how to pick
+    /// among them.
+    pub lights: Lights,
     pub background: Background,
     pub camera: CameraSettings,
 }

@@ -4,7 +4,7 @@ use std::f64::consts::PI;
 use std::io::IsTerminal;
 
 use hitkit::glam::{DVec2, DVec3};
-use hitkit::{Hittable, Interval, PdfHittable, Ray};
+use hitkit::{Hittable, Interval, Ray};
 use indicatif::{ProgressBar, ProgressStyle};
 use rand::rngs::SmallRng;
 use rand::{RngExt, SeedableRng};
@@ -193,10 +193,10 @@ fn radiance<W: Hittable, const BG: bool, const EMIT: bool, const LIGHTS: bool>(
             Scatter::Diffuse(albedo) if LIGHTS && !scene.lights.is_empty() => {
                 // Half the samples toward a light, half cosine-weighted; the weight is the
                 // Lambertian density over the mixture's.
-                // The lights as one: hitkit's uniform mixture over the list.
-                let lights = scene.lights.as_slice();
+                let lights = &scene.lights;
                 let direction = if rng.random::<f64>() < 0.5 {
-                    lights.sample_direction(hit.point, DVec2::new(rng.random(), rng.random()))
+                    let u = DVec2::new(rng.random(), rng.random());
+                    lights.sample(hit.point, hit.normal, u)
                 } else {
                     cosine_direction(hit.normal, rng)
                 };
@@ -204,7 +204,7 @@ fn radiance<W: Hittable, const BG: bool, const EMIT: bool, const LIGHTS: bool>(
                 if cos.is_nan() || cos <= 0.0 {
                     break; // below the surface: the Lambertian density there is 0
                 }
-                let light_pdf = lights.pdf_value(hit.point, direction);
+                let light_pdf = lights.pdf(hit.point, hit.normal, direction);
                 let mixture = 0.5 * cos / PI + 0.5 * light_pdf;
                 throughput *= albedo * (cos / PI / mixture);
                 direction

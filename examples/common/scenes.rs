@@ -3,7 +3,7 @@
 use hitkit::glam::DVec3;
 use hitkit::{MaterialId, Quad};
 
-use super::{Background, CameraSettings, Color, Material, Scene};
+use super::{Background, CameraSettings, Color, Lights, Material, Scene};
 
 /// The quads scene's background: the book's `cam.background`.
 pub const QUADS_BACKGROUND: Color = Color::new(0.70, 0.80, 1.00);
@@ -35,7 +35,7 @@ pub fn quads_scene(width: usize) -> Scene<Vec<Quad>> {
     Scene {
         world,
         materials,
-        lights: Vec::new(),
+        lights: Lights::default(),
         background: Background::Solid(QUADS_BACKGROUND),
         camera: CameraSettings {
             width,
@@ -105,7 +105,7 @@ pub fn shapes_scene(width: usize) -> Scene<Vec<Box<dyn hitkit::Hittable>>> {
     Scene {
         world,
         materials,
-        lights: Vec::new(),
+        lights: Lights::default(),
         background: Background::Sky,
         camera: CameraSettings {
             width,
@@ -234,7 +234,7 @@ pub fn cornell_scene(
     Scene {
         world,
         materials,
-        lights,
+        lights: Lights::Uniform(lights),
         background: Background::Solid(Color::ZERO),
         camera: cornell_camera(width),
     }
@@ -261,7 +261,7 @@ pub fn cornell_book_scene(width: usize) -> Scene<Vec<Box<dyn hitkit::Hittable>>>
     Scene {
         world,
         materials,
-        lights,
+        lights: Lights::Uniform(lights),
         background: Background::Solid(Color::ZERO),
         camera: cornell_camera(width),
     }
@@ -469,7 +469,7 @@ pub fn mesh_scene(
     Scene {
         world,
         materials,
-        lights: Vec::new(),
+        lights: Lights::default(),
         background: Background::Sky,
         camera: CameraSettings {
             width,
@@ -483,4 +483,165 @@ pub fn mesh_scene(
             shutter: true,
         },
     }
+}
+
+/// How the many-lights scene's renderer picks a light.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Pick {
+    /// Every light equally often (a list of lights, as the other scenes have).
+    Uniform,
+    /// In proportion to power: a `Mixture`.
+    Power,
+    /// By importance from the shading point and normal: a `LightTree`.
+    Tree,
+}
+
+/// A long hall lit by many small lamps of varied power: `rows` rows of four ceiling panels
+/// facing down and a triangular sconce on each wall facing in, 20 cm to 30 cm across, of
+/// radiances over two decades (a fixed seed: the same scene every run); grey walls, a
+/// darker floor, the camera at one end looking down the hall. From any point most lamps
+/// are far: a uniform or power-weighted choice wastes most of its samples on them.
+pub fn hall_scene(
+    width: usize,
+    rows: usize,
+    pick: Pick,
+) -> Scene<hitkit::Bvh<Box<dyn hitkit::Hittable>>> {
+    use hitkit::{Emission, Hittable, LightTree, Mixture, PdfHittable, Triangle};
+    let length = 0.6 * rows as f64 + 1.0;
+    let (wall, floor) = (MaterialId(0), MaterialId(1));
+    let mut materials = vec![
+        Material::Lambertian(Color::splat(0.7)),
+        Material::Lambertian(Color::splat(0.35)),
+    ];
+    let quad = |q: DVec3, u: DVec3, v: DVec3, m: MaterialId| {
+        Quad::new(q, u, v)
+            .expect("the hall's quads are valid")
+            .with_material(m)
+    };
+    let (x, y, z) = (DVec3::X, DVec3::Y, DVec3::Z);
+    let mut world: Vec<Box<dyn Hittable>> = vec![
+        Box::new(quad(
+            DVec3::new(-3.0, 0.0, 1.0),
+            6.0 * x,
+            -length * z,
+            floor,
+        )),
+        Box::new(quad(DVec3::new(-3.0, 4.0, 1.0), -length * z, 6.0 * x, wall)),
+        Box::new(quad(DVec3::new(-3.0, 0.0, 1.0), 4.0 * y, -length * z, wall)),
+        Box::new(quad(DVec3::new(3.0, 0.0, 1.0), -length * z, 4.0 * y, wall)),
+        Box::new(quad(
+            DVec3::new(-3.0, 0.0, 1.0 - length),
+            6.0 * x,
+            4.0 * y,
+            wall,
+        )),
+        Box::new(quad(DVec3::new(-3.0, 0.0, 1.0), 4.0 * y, 6.0 * x, wall)),
+    ];
+    let mut rng = {
+        use rand::SeedableRng;
+        rand::rngs::SmallRng::seed_from_u64(0x6861_6c6c)
+    };
+    let mut next = move || rand::RngExt::random::<f64>(&mut rng);
+    let (mut lights, mut powers, mut emission): (
+        Vec<Box<dyn PdfHittable>>,
+        Vec<f64>,
+        Vec<Emission>,
+    ) = (Vec::new(), Vec::new(), Vec::new());
+    let lamp = |materials: &mut Vec<Material>, radiance: Color| {
+        materials.push(Material::Light(radiance));
+        MaterialId(materials.len() as u32 - 1)
+    };
+    for row in 0..rows {
+        let at = -0.6 * row as f64 - 0.3;
+        for column in 0..4 {
+            // Radiance log-uniform over two decades, a warm or a cool tint.
+            let radiance = 0.3
+                * 10f64.powf(2.0 * next())
+                * if next() < 0.5 {
+                    Color::new(1.0, 0.8, 0.6)
+                } else {
+                    Color::new(0.7, 0.8, 1.0)
+                };
+            let size = 0.2 + 0.1 * next();
+            let m = lamp(&mut materials, radiance);
+            let corner = DVec3::new(
+                -2.25 + 1.5 * column as f64 - 0.5 * size,
+                3.99,
+                at - 0.5 * size,
+            );
+            // Facing down: `x cross z` is `-y`.
+            let panel = quad(corner, size * x, size * z, m);
+            powers.push(std::f64::consts::PI * super::render::luminance(radiance) * panel.area());
+            emission.push(Emission::OneSide(-y));
+            world.push(Box::new(panel));
+            lights.push(Box::new(panel));
+        }
+        // A sconce on each wall every fourth row, facing into the hall.
+        if row % 4 == 0 {
+            for side in [-1.0, 1.0] {
+                let radiance = Color::splat(0.3 * 10f64.powf(0.5 + 1.5 * next()));
+                let m = lamp(&mut materials, radiance);
+                let (u, v) = if side < 0.0 {
+                    (0.3 * y, 0.3 * z)
+                } else {
+                    (0.3 * z, 0.3 * y)
+                };
+                let corner = DVec3::new(2.99 * side, 2.0, at);
+                let sconce = Quad::with_interior(corner, u, v, Triangle)
+                    .expect("the sconces are valid")
+                    .with_material(m);
+                powers.push(
+                    std::f64::consts::PI * super::render::luminance(radiance) * sconce.area(),
+                );
+                emission.push(Emission::OneSide(u.cross(v)));
+                world.push(Box::new(sconce));
+                lights.push(Box::new(sconce));
+            }
+        }
+    }
+    let lights = match pick {
+        Pick::Uniform => Lights::Uniform(lights),
+        Pick::Power => Lights::Weighted(Mixture::new(lights, &powers).expect("positive powers")),
+        Pick::Tree => Lights::Tree(
+            LightTree::new(lights, &powers, &emission).expect("valid lights and powers"),
+        ),
+    };
+    let height = (width * 9 / 16).max(1);
+    Scene {
+        world: hitkit::Bvh::new(world),
+        materials,
+        lights,
+        background: Background::Solid(Color::ZERO),
+        camera: CameraSettings {
+            width,
+            height,
+            vfov: 60.0,
+            lookfrom: DVec3::new(0.0, 1.7, 0.5),
+            lookat: DVec3::new(0.0, 1.5, -20.0),
+            vup: DVec3::Y,
+            defocus_angle: 0.0,
+            focus_dist: 10.0,
+            shutter: false,
+        },
+    }
+}
+
+/// [`cornell_scene`] (its lamp sampled by area) with its one light picked as `pick` says:
+/// what the many-lights comparison checks a light tree costs nothing where one light is all.
+pub fn cornell_pick(width: usize, pick: Pick) -> Scene<Vec<Box<dyn hitkit::Hittable>>> {
+    use hitkit::{Emission, LightTree, Mixture};
+    let mut scene = cornell_scene(width, hitkit::Sampling::Area);
+    let lights = match std::mem::take(&mut scene.lights) {
+        Lights::Uniform(lights) => lights,
+        _ => unreachable!("the Cornell box lists its lamp"),
+    };
+    scene.lights = match pick {
+        Pick::Uniform => Lights::Uniform(lights),
+        Pick::Power => Lights::Weighted(Mixture::new(lights, &[1.0]).expect("one light")),
+        // The book's lamp faces down.
+        Pick::Tree => Lights::Tree(
+            LightTree::new(lights, &[1.0], &[Emission::OneSide(-DVec3::Y)]).expect("one light"),
+        ),
+    };
+    scene
 }

@@ -439,10 +439,24 @@ impl Cluster {
             (true, true) => (other, self),
         };
         let two_sided = a.two_sided || b.two_sided;
-        // The cone around both cones: `a`'s (the wider) turned toward `b`'s just enough.
-        let between = atan2(length(a.axis.cross(b.axis)), a.axis.dot(b.axis));
+        // `b`'s cone inside `a`'s (the wider): the angle between their axes at most the
+        // difference of their spreads, compared by cosines, without a trigonometric call
+        // (the common case: lights of one normal, and a cone grown to every direction).
+        let cos_between = a.axis.dot(b.axis);
+        let cos_difference = a.cos_spread * b.cos_spread + a.sin_spread * b.sin_spread;
+        let keep_a = Self {
+            bbox,
+            power,
+            two_sided,
+            ..*a
+        };
+        if a.spread >= PI || cos_between >= cos_difference {
+            return keep_a;
+        }
+        // The cone around both cones: `a`'s turned toward `b`'s just enough.
+        let between = atan2(length(a.axis.cross(b.axis)), cos_between);
         if (between + b.spread).min(PI) <= a.spread {
-            return Self::with_spread(bbox, power, a.axis, a.spread, two_sided);
+            return keep_a;
         }
         let spread = 0.5 * (a.spread + between + b.spread);
         let turn_about = a.axis.cross(b.axis).try_normalize();
@@ -559,7 +573,10 @@ fn build(prims: &mut [Prim], nodes: &mut Vec<Node>, depth: usize) -> Cluster {
         index: 0,
         leaf: false,
     });
-    let heuristic = if depth < MAX_DEPTH / 2 {
+    let heuristic = if prims.len() == 2 {
+        // Two lights: nothing to choose.
+        Some(1)
+    } else if depth < MAX_DEPTH / 2 {
         split(prims)
     } else {
         None
@@ -598,10 +615,10 @@ fn split(prims: &mut [Prim]) -> Option<usize> {
         .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), p| {
             (lo.min(p.centroid), hi.max(p.centroid))
         });
-    let whole = prims[1..]
+    let whole = prims
         .iter()
-        .fold(prims[0].cluster, |c, p| c.union(&p.cluster));
-    let extent = whole.bbox.max() - whole.bbox.min();
+        .fold(Aabb::EMPTY, |b, p| b.union(&p.cluster.bbox));
+    let extent = whole.max() - whole.min();
     let mut best: Option<(f64, usize, usize)> = None;
     for axis in 0..3 {
         let width = hi[axis] - lo[axis];
@@ -616,16 +633,22 @@ fn split(prims: &mut [Prim]) -> Option<usize> {
         }
         // The aspect along this axis: thin slabs cut across are dear.
         let aspect = extent.max_element() / extent[axis].max(f64::MIN_POSITIVE);
-        let merged = |range: core::ops::Range<usize>| {
-            buckets[range]
-                .iter()
-                .flatten()
-                .fold(None, |acc: Option<Cluster>, c| {
-                    Some(acc.map_or(*c, |a| a.union(c)))
-                })
+        // The clusters below and above each cut, by a sweep from each end.
+        let sweep = |order: &mut dyn Iterator<Item = usize>| {
+            let mut running: Option<Cluster> = None;
+            let mut out = [None; BUCKETS];
+            for b in order {
+                if let Some(c) = &buckets[b] {
+                    running = Some(running.map_or(*c, |r| r.union(c)));
+                }
+                out[b] = running;
+            }
+            out
         };
+        let below = sweep(&mut (0..BUCKETS));
+        let above = sweep(&mut (0..BUCKETS).rev());
         for cut in 1..BUCKETS {
-            let (Some(a), Some(b)) = (merged(0..cut), merged(cut..BUCKETS)) else {
+            let (Some(a), Some(b)) = (below[cut - 1], above[cut]) else {
                 continue;
             };
             let cost = aspect * (a.cost() + b.cost());
@@ -658,20 +681,25 @@ impl Cluster {
     fn cost(&self) -> f64 {
         let e = self.bbox.max() - self.bbox.min();
         let area = e.x * e.y + e.y * e.z + e.z * e.x;
-        self.power * orientation_measure(self.spread, FRAC_PI_2) * area
+        self.power * self.orientation_measure() * area
     }
-}
 
-/// The measure of the directions a cluster whose normals lie within `spread` of its axis
-/// emits in, each falling off to 0 at `falloff` from its normal (Conty Estevez and Kulla
-/// 2018, the `M_Omega` of their orientation heuristic).
-fn orientation_measure(spread: f64, falloff: f64) -> f64 {
-    let reach = (spread + falloff).min(PI);
-    let (sin_s, cos_s) = sin_cos(spread);
-    2.0 * PI * (1.0 - cos_s)
-        + 0.5
-            * PI
-            * (2.0 * reach * sin_s - sin_cos(spread - 2.0 * reach).1 - 2.0 * spread * sin_s + cos_s)
+    /// The measure of the directions the cluster's lights emit in, each falling off to 0 at
+    /// 90 degrees from its normal: the `M_Omega` of Conty Estevez and Kulla 2018's
+    /// orientation heuristic, `2 PI (1 - cos s) + PI / 2 (2 r sin s - cos(s - 2 r) - 2 s
+    /// sin s + cos s)` for the spread `s` and `r = min(s + PI / 2, PI)`, where
+    /// `cos(s - 2 r)` is `-cos s` for `s <= PI / 2` and `cos s` beyond: no trigonometric
+    /// call but the cached cosine and sine.
+    fn orientation_measure(&self) -> f64 {
+        let (s, cos_s, sin_s) = (self.spread, self.cos_spread, self.sin_spread);
+        let (reach, cos_s_minus_2_reach) = if s <= FRAC_PI_2 {
+            (s + FRAC_PI_2, -cos_s)
+        } else {
+            (PI, cos_s)
+        };
+        2.0 * PI * (1.0 - cos_s)
+            + 0.5 * PI * (2.0 * reach * sin_s - cos_s_minus_2_reach - 2.0 * s * sin_s + cos_s)
+    }
 }
 
 /// [`LightTree::with_normal`]: the tree, seen from surfaces facing `normal`.

@@ -6,6 +6,7 @@
 //!
 //! `cargo run --release -p hitkit-peers -- --help`
 
+mod lights;
 #[path = "../../../tests/support/scene.rs"]
 mod scene;
 mod updates;
@@ -47,6 +48,9 @@ Options:
                  (set_vertices) against its rebuild and against obvhs's refit, and the
                  throughput of a refitted tree as the mesh twists further, against a fresh
                  one (the rays as above)
+  --lights       instead of the tables above, what picking among many lights costs:
+                 LightTree against a power-weighted Mixture, per sample and per density
+                 query, at 10 to 1,000,000 lights, and the tree's build time and bytes
   --rays N       incoherent rays per scene [default: 1000000]
   --side N       camera rays: an N x N grid [default: 1000]
   --runs K       repetitions of every build and trace; the median is reported [default: 3]
@@ -64,6 +68,7 @@ struct Args {
     sphere: u32,
     mesh_only: bool,
     updates: bool,
+    lights: bool,
     rays: usize,
     side: usize,
     runs: usize,
@@ -131,6 +136,7 @@ fn parse_args(mut args: impl Iterator<Item = String>) -> Result<Option<Args>, St
         sphere: 8,
         mesh_only: false,
         updates: false,
+        lights: false,
         rays: 1_000_000,
         side: 1_000,
         runs: 3,
@@ -148,6 +154,10 @@ fn parse_args(mut args: impl Iterator<Item = String>) -> Result<Option<Args>, St
         }
         if flag == "--updates" {
             parsed.updates = true;
+            continue;
+        }
+        if flag == "--lights" {
+            parsed.lights = true;
             continue;
         }
         if ![
@@ -859,6 +869,10 @@ fn main() -> ExitCode {
             vertices,
             faces,
         });
+    }
+    if args.lights {
+        lights::print(&lights::run(&args), &args);
+        return ExitCode::SUCCESS;
     }
     if args.updates {
         let (mut times, mut rows, mut churns) = (Vec::new(), Vec::new(), Vec::new());

@@ -1,0 +1,139 @@
+//! `--lights`: what picking among many lights costs: hitkit's `LightTree` against a
+//! power-weighted `Mixture` of the same lights, per sample and per density query, as the
+//! number of lights grows; and the tree's build time and memory per light.
+
+use std::hint::black_box;
+
+use hitkit::glam::{DVec2, DVec3};
+use hitkit::{Emission, LightTree, Mixture, PdfHittable, Quad};
+
+use super::{Args, IN_USE, median_time, reset_peak, scene};
+use std::sync::atomic::Ordering::Relaxed;
+
+/// Light counts of the table's rows.
+const COUNTS: [usize; 4] = [10, 1_000, 100_000, 1_000_000];
+
+/// Shading points per row (each with a random normal), and the density queries of the
+/// mixture at the largest counts, where each visits every light.
+const POINTS: usize = 10_000;
+const MIXTURE_QUERIES_AT_MOST: usize = 100_000_000;
+
+/// `n` small panels, 1 cm to 10 cm across, facing every way, spread through a cube of 100 m,
+/// with powers over four decades; the same for every seed.
+fn lights(n: usize, seed: u64) -> (Vec<Quad>, Vec<f64>, Vec<Emission>) {
+    let mut rng = scene::SplitMix::new(seed);
+    let (mut quads, mut powers, mut emission) = (Vec::new(), Vec::new(), Vec::new());
+    for _ in 0..n {
+        let at = 100.0 * rng.vec3();
+        let normal = (rng.vec3() - 0.5).normalize_or(DVec3::Y);
+        let (u, v) = normal.any_orthonormal_pair();
+        let size = 0.01 + 0.09 * rng.vec3().x;
+        quads.push(Quad::new(at, size * u, size * v).expect("a valid panel"));
+        powers.push(10f64.powf(4.0 * rng.vec3().x));
+        emission.push(Emission::OneSide(u.cross(v)));
+    }
+    (quads, powers, emission)
+}
+
+/// One row per count of [`COUNTS`]: build time, bytes per light, and nanoseconds per sample
+/// and per density query for the tree (with the shading normal) and the mixture.
+pub(super) fn run(args: &Args) -> Vec<String> {
+    let mut rows = Vec::new();
+    for n in COUNTS {
+        eprintln!("{n} lights");
+        let (quads, powers, emission) = lights(n, args.seed);
+        let mut rng = scene::SplitMix::new(args.seed.wrapping_add(1));
+        let points: Vec<(DVec3, DVec3, DVec2)> = (0..POINTS)
+            .map(|_| {
+                let p = 100.0 * rng.vec3();
+                let normal = (rng.vec3() - 0.5).normalize_or(DVec3::Y);
+                let u = rng.vec3();
+                (p, normal, DVec2::new(u.x, u.y))
+            })
+            .collect();
+        // The tree's heap, measured by the counting allocator (the lights' own `Vec` too).
+        let base = reset_peak();
+        let (build, tree) = median_time(
+            args.runs,
+            || quads.clone(),
+            |quads| LightTree::new(quads, &powers, &emission).expect("valid lights"),
+        );
+        let kept = IN_USE.load(Relaxed).saturating_sub(base);
+        let mixture = Mixture::new(quads.clone(), &powers).expect("positive powers");
+        let per = |t: std::time::Duration, count: usize| t.as_secs_f64() * 1e9 / count as f64;
+        // Samples, then densities of the sampled directions, through the tree.
+        let (tree_sample, directions) = median_time(
+            args.runs,
+            || (),
+            |()| {
+                points
+                    .iter()
+                    .map(|&(p, normal, u)| tree.with_normal(normal).sample_direction(p, u))
+                    .collect::<Vec<_>>()
+            },
+        );
+        let (tree_pdf, densities) = median_time(
+            args.runs,
+            || (),
+            |()| {
+                points
+                    .iter()
+                    .zip(&directions)
+                    .map(|(&(p, normal, _), &d)| tree.with_normal(normal).pdf_value(p, d))
+                    .collect::<Vec<f64>>()
+            },
+        );
+        assert!(
+            densities.iter().all(|&pdf| pdf.is_finite() && pdf >= 0.0),
+            "densities are numbers"
+        );
+        let (mixture_sample, mixture_directions) = median_time(
+            args.runs,
+            || (),
+            |()| {
+                points
+                    .iter()
+                    .map(|&(p, _, u)| mixture.sample_direction(p, u))
+                    .collect::<Vec<_>>()
+            },
+        );
+        // A mixture's density visits every light: at most this many visits in all.
+        let queries = (MIXTURE_QUERIES_AT_MOST / n).clamp(1, POINTS);
+        let (mixture_pdf, _) = median_time(
+            args.runs,
+            || (),
+            |()| {
+                points[..queries]
+                    .iter()
+                    .zip(&mixture_directions)
+                    .map(|(&(p, _, _), &d)| black_box(mixture.pdf_value(p, d)))
+                    .sum::<f64>()
+            },
+        );
+        rows.push(format!(
+            "| {n} | {:.1} | {:.0} | {:.0} | {:.0} | {:.0} | {:.0} ({queries} queries) |",
+            build.as_secs_f64() * 1e3,
+            kept as f64 / n as f64,
+            per(tree_sample, POINTS),
+            per(tree_pdf, POINTS),
+            per(mixture_sample, POINTS),
+            per(mixture_pdf, queries),
+        ));
+    }
+    rows
+}
+
+/// Prints the table.
+pub(super) fn print(rows: &[String], args: &Args) {
+    println!(
+        "{}; single-threaded; median of {} runs; {POINTS} shading points with random normals in a 100 m cube of small panels facing every way, powers over four decades; the tree's bytes include the lights it holds ({} bytes a `Quad`)\n",
+        scene::machine(),
+        args.runs,
+        std::mem::size_of::<Quad>()
+    );
+    println!(
+        "| lights | tree build ms | tree bytes per light | tree sample ns | tree density ns | mixture sample ns | mixture density ns |"
+    );
+    println!("|---:|---:|---:|---:|---:|---:|---:|");
+    rows.iter().for_each(|r| println!("{r}"));
+}
