@@ -224,7 +224,12 @@ impl<T: PdfHittable> LightTree<T> {
         if !origin.is_finite() {
             return 0.0;
         }
-        let mut n = self.leaves[i] as usize;
+        self.reaching(self.leaves[i] as usize, origin, normal)
+    }
+
+    /// The probability that the walk reaches node `n`: the product of the choices on the
+    /// way down to it, found on the way up.
+    fn reaching(&self, mut n: usize, origin: DVec3, normal: Option<DVec3>) -> f64 {
         let mut p = 1.0;
         while let Some(&parent) = self.parents.get(n).filter(|&&p| p != NONE) {
             let parent = parent as usize;
@@ -286,27 +291,28 @@ impl<T: PdfHittable> LightTree<T> {
         if self.nodes.is_empty() || !ray.is_valid() {
             return 0.0;
         }
-        // Depth first, a node and the probability of the walk reaching it: every node
-        // whose box the ray meets (a light the direction reaches lies in the box of every
-        // node above it).
-        let mut stack = [(0u32, 0.0f64); MAX_DEPTH + 2];
-        stack[0] = (0, 1.0);
+        // The lights the direction reaches, found by the boxes the ray meets (a light it
+        // reaches lies in the box of every node above it); the walk's probability only for
+        // those (most directions reach none, or one), from its leaf up.
+        let mut stack = [0u32; MAX_DEPTH + 2];
         let mut top = 1;
         let mut sum = 0.0;
         while top > 0 {
             top -= 1;
-            let (n, p) = stack[top];
-            let node = &self.nodes[n as usize];
-            if p == 0.0 || !node.cluster.bbox.hit(&ray, Interval::FORWARD) {
+            let n = stack[top] as usize;
+            let node = &self.nodes[n];
+            if !node.cluster.bbox.hit(&ray, Interval::FORWARD) {
                 continue;
             }
             if node.leaf {
-                sum += p * self.lights[node.index as usize].pdf_value(origin, direction);
+                let pdf = self.lights[node.index as usize].pdf_value(origin, direction);
+                if pdf > 0.0 {
+                    sum += self.reaching(n, origin, normal) * pdf;
+                }
                 continue;
             }
-            let left = self.left_probability(n as usize, origin, normal);
-            stack[top] = (node.index, p * (1.0 - left));
-            stack[top + 1] = (n + 1, p * left);
+            stack[top] = node.index;
+            stack[top + 1] = n as u32 + 1;
             top += 2;
         }
         sum
@@ -370,12 +376,17 @@ fn share(a: f64, b: f64) -> Option<f64> {
 }
 
 /// `(cos, sin)` of `max(0, x - y)` for angles `x` and `y` in `[0, PI]` given by their cosines
-/// and sines.
+/// and sines (`x`'s sine found only where it is needed).
 #[inline]
-fn minus_clamped((cos_x, sin_x): (f64, f64), (cos_y, sin_y): (f64, f64)) -> (f64, f64) {
+fn minus_clamped(
+    cos_x: f64,
+    sin_x: impl FnOnce() -> f64,
+    (cos_y, sin_y): (f64, f64),
+) -> (f64, f64) {
     if cos_x >= cos_y {
         (1.0, 0.0)
     } else {
+        let sin_x = sin_x();
         (cos_x * cos_y + sin_x * sin_y, sin_x * cos_y - cos_x * sin_y)
     }
 }
@@ -487,14 +498,13 @@ impl Cluster {
         let radius2 = (0.5 * max - 0.5 * min).length_squared();
         let from_centre = p - centre;
         let d2 = from_centre.length_squared();
-        // The cone of directions from `p` into the box's bounding sphere: all of them from
-        // inside it.
-        let inside = d2 <= radius2 || self.bbox.contains(p);
-        let (cos_box, sin_box) = if inside {
+        // The cone of directions from `p` into the box's bounding sphere (which holds the
+        // box): all of them from inside it.
+        let (cos_box, sin_box) = if d2 <= radius2 {
             (-1.0, 0.0)
         } else {
-            let cos = sqrt(1.0 - radius2 / d2);
-            (cos, sine(cos))
+            let sin2 = radius2 / d2;
+            (sqrt(1.0 - sin2), sqrt(sin2))
         };
         let toward_p = if d2 > 0.0 {
             from_centre / sqrt(d2)
@@ -506,13 +516,9 @@ impl Cluster {
         if self.two_sided {
             cos_normal = cos_normal.abs();
         }
-        let least = minus_clamped(
-            minus_clamped(
-                (cos_normal, sine(cos_normal)),
-                (self.cos_spread, self.sin_spread),
-            ),
-            (cos_box, sin_box),
-        );
+        let spread = (self.cos_spread, self.sin_spread);
+        let (cos_x, sin_x) = minus_clamped(cos_normal, || sine(cos_normal), spread);
+        let least = minus_clamped(cos_x, || sin_x, (cos_box, sin_box));
         // Diffuse emitters send nothing at 90 degrees from their normal and beyond.
         if least.0 <= 0.0 {
             return 0.0;
@@ -520,7 +526,7 @@ impl Cluster {
         let mut importance = self.power * least.0 / d2.max(radius2);
         if let Some(n) = normal {
             let cos_in = (-toward_p).dot(n);
-            let (cos_seen, _) = minus_clamped((cos_in, sine(cos_in)), (cos_box, sin_box));
+            let (cos_seen, _) = minus_clamped(cos_in, || sine(cos_in), (cos_box, sin_box));
             if cos_seen <= 0.0 {
                 return 0.0;
             }
