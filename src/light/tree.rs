@@ -301,14 +301,15 @@ impl<T: PdfHittable> LightTree<T> {
             top -= 1;
             let n = stack[top] as usize;
             let node = &self.nodes[n];
-            if !node.cluster.bbox.hit(&ray, Interval::FORWARD) {
-                continue;
-            }
+            // A light's own density is its own test: no box before it.
             if node.leaf {
                 let pdf = self.lights[node.index as usize].pdf_value(origin, direction);
                 if pdf > 0.0 {
                     sum += self.reaching(n, origin, normal) * pdf;
                 }
+                continue;
+            }
+            if !node.cluster.bbox.hit(&ray, Interval::FORWARD) {
                 continue;
             }
             stack[top] = node.index;
