@@ -291,6 +291,10 @@ impl<T: PdfHittable> LightTree<T> {
         if self.nodes.is_empty() || !ray.is_valid() {
             return 0.0;
         }
+        if let [only] = self.lights.as_slice() {
+            // Picked always: its own density, and no box test before it.
+            return only.pdf_value(origin, direction);
+        }
         // The lights the direction reaches, found by the boxes the ray meets (a light it
         // reaches lies in the box of every node above it); the walk's probability only for
         // those (most directions reach none, or one), from its leaf up.
@@ -301,15 +305,14 @@ impl<T: PdfHittable> LightTree<T> {
             top -= 1;
             let n = stack[top] as usize;
             let node = &self.nodes[n];
-            // A light's own density is its own test: no box before it.
+            if !node.cluster.bbox.hit(&ray, Interval::FORWARD) {
+                continue;
+            }
             if node.leaf {
                 let pdf = self.lights[node.index as usize].pdf_value(origin, direction);
                 if pdf > 0.0 {
                     sum += self.reaching(n, origin, normal) * pdf;
                 }
-                continue;
-            }
-            if !node.cluster.bbox.hit(&ray, Interval::FORWARD) {
                 continue;
             }
             stack[top] = node.index;
