@@ -3,7 +3,7 @@
 //! `PdfHittable::sample_direction` makes from uniform points of `[0, 1)^2` are distributed
 //! over solid angle as `PdfHittable::pdf_value` says. It covers rectangles sampled by solid
 //! angle and by area, skewed parallelograms, triangles, disks, rings, spheres, a mixture of
-//! lights and a moved light, from near, far, grazing, behind and inside; a negative control
+//! lights, a light tree and a moved light, from near, far, grazing, behind and inside; a negative control
 //! shows that it catches a sampler that is off by a little.
 //!
 //! For one light and one origin: every direction toward the light lies in the cone around

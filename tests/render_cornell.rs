@@ -6,6 +6,7 @@
 
 #[path = "../examples/common/mod.rs"]
 mod common;
+mod support;
 
 use common::Effects;
 use common::render::{Settings, render};
@@ -14,6 +15,7 @@ use hitkit::glam::{DVec2, DVec3};
 use hitkit::{Hittable, Interval, PdfHittable, Ray, Sampling};
 use rand::rngs::SmallRng;
 use rand::{RngExt, SeedableRng};
+use support::assert_same_mean;
 
 const SETTINGS: Settings = Settings {
     samples: 256,
@@ -23,23 +25,6 @@ const SETTINGS: Settings = Settings {
     threads: 0,
     progress: false,
 };
-
-/// Whether two estimates of one mean agree: within 4 standard errors of their difference
-/// (`sqrt(se_a^2 + se_b^2)`, each from per-pixel sample variances), a false alarm once in
-/// about 16,000 runs for normal errors (path contributions are heavy-tailed, which the
-/// sample variance only partly captures). And the comparison must mean something: the
-/// error small against the mean.
-fn assert_same_mean((mean_a, se_a): (f64, f64), (mean_b, se_b): (f64, f64), what: &str) {
-    let se = (se_a * se_a + se_b * se_b).sqrt();
-    assert!(
-        (mean_a - mean_b).abs() <= 4.0 * se,
-        "{what}: {mean_a} +- {se_a} vs {mean_b} +- {se_b}"
-    );
-    assert!(
-        se < 0.05 * mean_a,
-        "{what}: standard error {se} too large for mean {mean_a}"
-    );
-}
 
 #[test]
 fn light_sampling_and_cosine_sampling_agree_on_the_mean_brightness() {

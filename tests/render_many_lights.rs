@@ -7,9 +7,11 @@
 
 #[path = "../examples/common/mod.rs"]
 mod common;
+mod support;
 
 use common::render::{Settings, render};
 use common::scenes::{Pick, hall_scene};
+use support::assert_same_mean;
 
 /// A short hall (40 rows: 160 panels and 20 sconces), small, for a debug build.
 fn mean(pick: Pick, seed: u64) -> ((f64, f64), f64) {
@@ -25,20 +27,6 @@ fn mean(pick: Pick, seed: u64) -> ((f64, f64), f64) {
     let image = render(&scene, &settings, scene.effects()).unwrap();
     let variance = image.variance.iter().sum::<f64>() / image.variance.len() as f64;
     (image.mean_luminance(), variance)
-}
-
-/// Within 4 standard errors of their difference, as in `render_cornell.rs` (a false alarm
-/// once in about 16,000 runs for normal errors), and the error small against the mean.
-fn assert_same_mean((a, se_a): (f64, f64), (b, se_b): (f64, f64), what: &str) {
-    let se = (se_a * se_a + se_b * se_b).sqrt();
-    assert!(
-        (a - b).abs() <= 4.0 * se,
-        "{what}: {a} +- {se_a} vs {b} +- {se_b}"
-    );
-    assert!(
-        se < 0.05 * a,
-        "{what}: standard error {se} too large for mean {a}"
-    );
 }
 
 #[test]

@@ -328,7 +328,7 @@ impl LightTree<Quad<Triangle>> {
     /// `PI * radiance * area` (the flux of a diffuse emitter of that radiance; twice that
     /// where `two_sided`), facing the side its corners wind counterclockwise around (the
     /// side [`TriangleMesh`]'s geometric normal faces), or both. Degenerate faces (of no
-    /// area) are left out; each light's [`Quad::material`](Quad) is the mesh's.
+    /// area) are left out; each light carries the mesh's material.
     ///
     /// # Errors
     /// As [`LightTree::new`]: a radiance that is negative, not finite, or 0.
