@@ -37,7 +37,8 @@ pub enum Emission {
 /// direction reaches, of the probability of walking to it times its own density, so a
 /// renderer that mixes it with other strategies stays unbiased. A light far, dim or
 /// facing away is picked seldom or never, where a [`Mixture`](crate::Mixture) picks it at
-/// its fixed weight; a sample and a density cost a walk of the tree's depth, where a
+/// its fixed weight. A sample costs a walk of the tree's depth; a density, the box tests
+/// of the nodes its ray meets and a walk up from each light it reaches, where a
 /// `Mixture`'s density visits every light.
 ///
 /// [`LightTree::with_normal`] adds the shading normal: lights wholly below the surface's
