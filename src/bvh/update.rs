@@ -486,6 +486,8 @@ impl Tree {
         lineage: Option<&Lineage>,
     ) -> Option<(Vec<Visit>, usize, Spot)> {
         let own = half_area(&lane.bounds) * lane.weight(self.traversal_cost);
+        // Whether a pair's new node can still be numbered.
+        let room = self.nodes.len() < u32::MAX as usize;
         let mut visits = alloc::vec![Visit {
             node: 0,
             level: 1,
@@ -529,7 +531,7 @@ impl Tree {
                 };
                 if let Some(height) = height
                     && level + 1 + height.max(lane.height) <= MAX_DEPTH
-                    && self.nodes.len() < u32::MAX as usize
+                    && room
                 {
                     // Lane `k` becomes the new node's, and what it held moves down
                     // beside the new lane.

@@ -594,11 +594,7 @@ fn build(prims: &mut [Prim], nodes: &mut Vec<Node>, depth: usize) -> Cluster {
     };
     let mid = heuristic.unwrap_or_else(|| {
         // By count: the median along the longest axis of the centroids.
-        let (lo, hi) = prims
-            .iter()
-            .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), p| {
-                (lo.min(p.centroid), hi.max(p.centroid))
-            });
+        let (lo, hi) = centroid_bounds(prims);
         let axis = (hi - lo).max_position();
         let mid = prims.len() / 2;
         prims.select_nth_unstable_by(mid, |a, b| a.centroid[axis].total_cmp(&b.centroid[axis]));
@@ -621,11 +617,7 @@ fn build(prims: &mut [Prim], nodes: &mut Vec<Node>, depth: usize) -> Cluster {
 /// the size of the first part; `None` where every centroid falls in one bucket on every
 /// axis.
 fn split(prims: &mut [Prim]) -> Option<usize> {
-    let (lo, hi) = prims
-        .iter()
-        .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), p| {
-            (lo.min(p.centroid), hi.max(p.centroid))
-        });
+    let (lo, hi) = centroid_bounds(prims);
     let whole = prims
         .iter()
         .fold(Aabb::EMPTY, |b, p| b.union(&p.cluster.bbox));
@@ -679,6 +671,15 @@ fn split(prims: &mut [Prim]) -> Option<usize> {
         }
     }
     (first > 0 && first < prims.len()).then_some(first)
+}
+
+/// The corners of the box of the lights' centroids.
+fn centroid_bounds(prims: &[Prim]) -> (DVec3, DVec3) {
+    prims
+        .iter()
+        .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), p| {
+            (lo.min(p.centroid), hi.max(p.centroid))
+        })
 }
 
 /// The bucket of a centroid at `c` along an axis whose centroids span `width` from `lo`.
