@@ -3,7 +3,7 @@
 
 use glam::DVec3;
 
-use crate::math::gamma;
+use crate::math::{direction_scale, gamma, scaled_outward};
 use crate::{Interval, Ray};
 
 /// Below this fraction of its longest side, a side of a box is padded: flat shapes get
@@ -189,8 +189,10 @@ impl Aabb {
         if !ray.is_valid() {
             return None;
         }
-        let ([t0], [t1]) = slab_spans(lanes(self.min), lanes(self.max), &BoxRay::new(ray), ray_t);
-        (t0 < f64::INFINITY).then_some(Interval::new(t0, t1))
+        let box_ray = BoxRay::new(ray);
+        let scaled = box_ray.scaled_range(ray_t);
+        let ([t0], [t1]) = slab_spans(lanes(self.min), lanes(self.max), &box_ray, scaled);
+        (t0 < f64::INFINITY).then(|| box_ray.unscaled_span(Interval::new(t0, t1)))
     }
 
     /// Whether a coordinate of the box reaches a sixteenth of f64's largest (about
@@ -294,18 +296,29 @@ impl Default for Aabb {
 }
 
 /// A ray prepared for many box tests: its reciprocal direction and the direction's signs.
+///
+/// The direction is first scaled by a power of two ([`direction_scale`]), exactly, so that
+/// its reciprocal neither overflows (a direction of `1e-310`) nor underflows: the slab
+/// test's distances are along the scaled direction, and [`BoxRay::scaled_range`] and
+/// [`BoxRay::unscaled_span`] convert to and from the ray's own `t`. For every ordinary ray
+/// the scale is 1 and both are the identity.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct BoxRay {
     origin: DVec3,
+    /// The reciprocal of the scaled direction.
     pub(crate) inv_direction: DVec3,
     /// Sign bits, so that `-0.0` counts as negative: its reciprocal is `-inf`.
     pub(crate) negative: [bool; 3],
+    /// The direction's scale: a distance `t'` of the slab test is `t' * scale` along the
+    /// ray's own direction.
+    scale: f64,
 }
 
 impl BoxRay {
     #[inline]
     pub(crate) fn new(ray: &Ray) -> Self {
-        let inv_direction = ray.direction.recip();
+        let scale = direction_scale(ray.direction);
+        let inv_direction = (ray.direction * scale).recip();
         let negative = [
             inv_direction.x.is_sign_negative(),
             inv_direction.y.is_sign_negative(),
@@ -315,6 +328,29 @@ impl BoxRay {
             origin: ray.origin,
             inv_direction,
             negative,
+            scale,
         }
+    }
+
+    /// `ray_t` in the slab test's units, rounded outward where the conversion rounds.
+    #[inline]
+    pub(crate) fn scaled_range(&self, ray_t: Interval) -> Interval {
+        ray_t.scaled(1.0 / self.scale)
+    }
+
+    /// The upper end of a range of the ray's `t` in the slab test's units, rounded up.
+    #[inline]
+    pub(crate) fn scaled_max(&self, t: f64) -> f64 {
+        if self.scale == 1.0 {
+            t
+        } else {
+            scaled_outward(t, 1.0 / self.scale, false)
+        }
+    }
+
+    /// A span of the slab test's distances as the ray's `t`, rounded outward.
+    #[inline]
+    pub(crate) fn unscaled_span(&self, span: Interval) -> Interval {
+        span.scaled(self.scale)
     }
 }

@@ -1,5 +1,7 @@
 //! [`Interval`]: a closed range of ray parameters.
 
+use crate::math::scaled_outward;
+
 /// A closed range of reals `[min, max]`; empty when `min > max` (or either is NaN).
 ///
 /// ```
@@ -36,6 +38,20 @@ impl Interval {
     #[must_use]
     pub const fn new(min: f64, max: f64) -> Self {
         Self { min, max }
+    }
+
+    /// Both ends times a power of two `factor` (a range of `t` along a ray whose direction
+    /// was divided by it: see [`Ray::rescaled`](crate::Ray)), rounded outward where the
+    /// products under- or overflow.
+    #[inline]
+    pub(crate) fn scaled(self, factor: f64) -> Self {
+        if factor == 1.0 {
+            return self;
+        }
+        Self::new(
+            scaled_outward(self.min, factor, true),
+            scaled_outward(self.max, factor, false),
+        )
     }
 
     /// `max - min`; negative for an empty interval.

@@ -41,8 +41,8 @@
 //!   infinite or zero-direction ray returns `None`. Nothing panics on any `f64` input.
 //!
 //! # The contract
-//! What hitkit promises, for every ray a renderer may trace (any direction, any origin,
-//! grazing or from far away) and every shape it may build (rotated, far from the origin,
+//! What hitkit promises, for every ray a renderer may trace (any direction, of any length
+//! `f64` holds, any origin, grazing or from far away) and every shape it may build (rotated, far from the origin,
 //! from `1e-6` to `1e6` in size); each clause is held by `tests/contract.rs`.
 //!
 //! 1. **No false hits.** Every hit a planar shape reports lies within `2^-43 M / s^2` of the

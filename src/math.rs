@@ -59,6 +59,50 @@ pub(crate) fn power_of_two_scale(largest: f64) -> f64 {
     f64::from_bits(((1023 - exponent.clamp(-1022, 1022)) as u64) << 52)
 }
 
+/// The power of two by which a ray's direction is scaled before tests whose arithmetic
+/// over- or underflows for directions far from unit length (reciprocals, squares, the
+/// `f32` lanes): 1 for a direction whose largest component lies in `[2^-32, 2^32]` (every
+/// ordinary ray, which so pays nothing), and otherwise the one that brings it into `[1, 2)`
+/// (or to `2^-52` and up, for a subnormal one), where that scaling is exact; 1 where it is
+/// not (a huge direction whose smallest components would turn subnormal), and for a
+/// direction that cannot be traced (zero, infinite or NaN). A scaled direction needs no
+/// further scaling. Since the
+/// scaling is exact, a `t` found along the scaled direction is exactly `1 / scale` times
+/// the one along the given direction, barring over- and underflow.
+#[inline]
+#[must_use]
+pub(crate) fn direction_scale(d: glam::DVec3) -> f64 {
+    const SMALL: f64 = 1.0 / (1u64 << 32) as f64;
+    const LARGE: f64 = (1u64 << 32) as f64;
+    let largest = d.abs().max_element();
+    // (Nor is a zero, infinite or NaN direction scaled: it cannot be traced.)
+    if (SMALL..=LARGE).contains(&largest) || !(largest > 0.0 && largest < f64::INFINITY) {
+        return 1.0;
+    }
+    let scale = power_of_two_scale(largest);
+    if d * scale * (1.0 / scale) == d {
+        scale
+    } else {
+        1.0
+    }
+}
+
+/// `x * factor` for a power of two `factor`: exact in the normal range; where the product
+/// rounds (under- or overflow), moved one float down (`down`) or up, so that it stays a
+/// bound on the exact product.
+#[inline]
+#[must_use]
+pub(crate) fn scaled_outward(x: f64, factor: f64, down: bool) -> f64 {
+    let y = x * factor;
+    if y / factor == x {
+        y
+    } else if down {
+        y.next_down()
+    } else {
+        y.next_up()
+    }
+}
+
 /// `(sin x, cos x)`.
 #[inline]
 #[must_use]

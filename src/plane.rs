@@ -282,6 +282,13 @@ impl Plane {
     #[inline]
     #[must_use]
     pub fn intersect(&self, ray: &Ray, ray_t: Interval) -> Option<PlaneHit> {
+        if let Some((scaled, scale)) = ray.rescaled() {
+            // A direction of extreme length: along the same ray with an ordinary one (the
+            // scaling is exact), so that `n.d` and `t` neither over- nor underflow.
+            let mut hit = self.intersect(&scaled, ray_t.scaled(1.0 / scale))?;
+            hit.t = Ray::t_from_rescaled(hit.t, scale, ray_t)?;
+            return Some(hit);
+        }
         let numerator = self.normal.dot(self.q - ray.origin);
         let denom = self.normal.dot(ray.direction);
         // The quotient is negative exactly when the signs differ: a plane behind a ray whose

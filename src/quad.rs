@@ -4,7 +4,7 @@
 use glam::{DVec2, DVec3};
 
 use crate::light::{Spherical, View, reaching, toward_middle};
-use crate::math::{gamma, unit_and_length};
+use crate::math::{direction_scale, gamma, unit_and_length};
 use crate::plane::Crossing;
 use crate::{
     Aabb, Found, GeometryError, HitRecord, Hittable, Interior, Interval, MaterialId, Meets,
@@ -135,6 +135,16 @@ impl<S: Interior> Quad<S> {
         ray_t.contains(hit.t).then_some(hit)
     }
 
+    /// [`Quad::decide`] for a ray whose direction's length is extreme, along the same ray
+    /// with the direction scaled (exactly) to an ordinary length.
+    #[cold]
+    #[inline(never)]
+    fn decide_rescaled(&self, scaled: &Ray, ray_t: Interval, scale: f64) -> Option<PlaneHit> {
+        let mut hit = self.decide(scaled, ray_t.scaled(1.0 / scale))?;
+        hit.t = Ray::t_from_rescaled(hit.t, scale, ray_t)?;
+        Some(hit)
+    }
+
     /// The record of a settled crossing (see [`Quad::settle`]).
     #[inline(always)]
     fn build(&self, ray: &Ray, hit: PlaneHit) -> Option<HitRecord> {
@@ -173,6 +183,9 @@ impl<S: Interior> Quad<S> {
     /// whole ray, and only then compared with `ray_t`.
     #[inline(always)]
     fn decide(&self, ray: &Ray, ray_t: Interval) -> Option<PlaneHit> {
+        if let Some((scaled, scale)) = ray.rescaled() {
+            return self.decide_rescaled(&scaled, ray_t, scale);
+        }
         let plane = &self.plane;
         // Whatever the decision below, the reported t is at least t - 3 reach (the refined
         // crossing's own reach is no larger than this one's): `crossing` rejects a t past
@@ -306,6 +319,9 @@ impl<S: SampleInterior> PdfHittable for Quad<S> {
     /// wherever that is not a finite number: an origin in the plane, a grazing direction
     /// whose density overflows, an invalid ray.
     fn pdf_value(&self, origin: DVec3, direction: DVec3) -> f64 {
+        // A density over solid angle: the direction's length is free, and one of ordinary
+        // length (an exact scaling) keeps `t` within f64's range.
+        let direction = direction * direction_scale(direction);
         let Some(hit) = self.reached(origin, direction) else {
             return 0.0;
         };

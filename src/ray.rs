@@ -2,10 +2,16 @@
 
 use glam::DVec3;
 
+use crate::Interval;
+use crate::math::{direction_scale, scaled_outward};
+
 /// A ray `origin + t * direction`, sent at `time`.
 ///
 /// The direction need not be unit length: hits report `t` in units of `direction`, and
-/// whether a surface is hit does not depend on the direction's length.
+/// whether a surface is hit, and where, does not depend on the direction's length, from
+/// the subnormals to `f64::MAX` (along `d * 2^k` every shape and tree finds the same point
+/// at `t * 2^-k`, unless that `t` would pass `f64`'s range; densities over solid angle are
+/// the same).
 ///
 /// `time` is the book's `ray.time()`: the moment the ray samples, for objects that move
 /// ([`Moving`](crate::Moving)); 0 unless set with [`Ray::at_time`]. Static shapes ignore
@@ -54,6 +60,30 @@ impl Ray {
     #[must_use]
     pub fn at(&self, t: f64) -> DVec3 {
         self.origin + t * self.direction
+    }
+
+    /// The same ray with its direction scaled by a power of two, exactly, where its length
+    /// is so far from 1 that the arithmetic of a test would over- or underflow
+    /// ([`direction_scale`]), and the scale: `t` along `self` is `scale` times `t` along
+    /// the scaled ray. `None` for every ordinary ray, which needs no scaling.
+    #[inline]
+    pub(crate) fn rescaled(&self) -> Option<(Self, f64)> {
+        let scale = direction_scale(self.direction);
+        (scale != 1.0).then(|| {
+            let direction = self.direction * scale;
+            (Self { direction, ..*self }, scale)
+        })
+    }
+
+    /// A `t` found along the [rescaled](Ray::rescaled) ray (with `ray_t` scaled as it
+    /// was, by [`Interval::scaled`]) as a `t` along this one: exact, but for one that
+    /// underflows, which is rounded up, so that a range ending at it (a search's lowered
+    /// `ray_t.max`, `record` asking again) still holds the crossing; `None` where it leaves
+    /// f64's range or `ray_t`.
+    #[inline]
+    pub(crate) fn t_from_rescaled(t: f64, scale: f64, ray_t: Interval) -> Option<f64> {
+        let t = scaled_outward(t, scale, false);
+        (t.abs() < f64::INFINITY && ray_t.contains(t)).then_some(t)
     }
 
     /// Whether the ray can be traced: a finite origin and a finite, non-zero direction.

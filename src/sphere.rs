@@ -7,7 +7,7 @@ use core::f64::consts::{PI, TAU};
 use glam::{DVec2, DVec3};
 
 use crate::light::{reaching, toward_middle};
-use crate::math::{acos, atan2, gamma, sin_cos, sqrt, unit_and_length};
+use crate::math::{acos, atan2, direction_scale, gamma, sin_cos, sqrt, unit_and_length};
 use crate::{Aabb, GeometryError, HitRecord, Hittable, Interval, MaterialId, PdfHittable, Ray};
 
 /// A sphere: centre and radius. `uv` is `(phi / 2 pi, theta / pi)`, `phi` around the y axis
@@ -92,16 +92,23 @@ impl Sphere {
     /// nearly equal numbers (Ray Tracing Gems, chapter 7).
     #[must_use]
     pub fn roots(&self, ray: &Ray) -> Option<(f64, f64)> {
-        self.solve(ray).map(|(near, far, ..)| (near, far))
+        self.solve(ray)
+            .filter(|&(near, far, ..)| near.is_finite() && far.is_finite())
+            .map(|(near, far, ..)| (near, far))
     }
 
     /// The roots, nearer first, the vector from the centre to the ray's point closest to
-    /// it, and half the chord in units of `t` (`sqrt(discriminant / d.d)`): the point of a
-    /// root is the closest point moved by minus (near) or plus (far) that along `d`, a form
-    /// that stays accurate where `o + t d` cancels (a ray from far away).
-    fn solve(&self, ray: &Ray) -> Option<(f64, f64, DVec3, f64)> {
+    /// it, and half the chord as a vector along the ray (`sqrt(discriminant / d.d) d`): the
+    /// point of a root is the closest point moved by minus (near) or plus (far) that, a
+    /// form that stays accurate where `o + t d` cancels (a ray from far away).
+    ///
+    /// Solved along the direction scaled by a power of two where its length is extreme
+    /// (exactly: [`direction_scale`]), so that `d.d` neither over- nor underflows; the
+    /// roots are scaled back, and may then pass f64's range (infinite, never NaN).
+    fn solve(&self, ray: &Ray) -> Option<(f64, f64, DVec3, DVec3)> {
         let f = ray.origin - self.center;
-        let d = ray.direction;
+        let scale = direction_scale(ray.direction);
+        let d = ray.direction * scale;
         let a = d.dot(d);
         let b = f.dot(d); // half of the usual b
         let closest = f - (b / a) * d;
@@ -112,10 +119,10 @@ impl Sphere {
         }
         let c = f.dot(f) - r2;
         let q = -(b + b.signum() * sqrt(a * discriminant));
-        let (t0, t1) = (c / q, q / a);
+        let (t0, t1) = (scale * (c / q), scale * (q / a));
         let (near, far) = if t0 <= t1 { (t0, t1) } else { (t1, t0) };
-        let half_chord = sqrt(discriminant / a);
-        (near.is_finite() && far.is_finite() && half_chord.is_finite())
+        let half_chord = sqrt(discriminant / a) * d;
+        (!(near.is_nan() || far.is_nan()) && half_chord.is_finite())
             .then_some((near, far, closest, half_chord))
     }
 }
@@ -127,24 +134,26 @@ impl Hittable for Sphere {
         }
         let (near, far, closest, half_chord) = self.solve(ray)?;
         // Each root kept in the box's span along the whole ray (so that a Bvh finds what a
-        // loop finds), then the first in range.
+        // loop finds), then the first in range; a root past f64's range (along a direction
+        // of extreme length) is no hit.
         let bbox = self.bounding_box();
-        let (near, far) = (
-            bbox.clamp_hit(ray, Interval::UNIVERSE, near)?,
-            bbox.clamp_hit(ray, Interval::UNIVERSE, far)?,
-        );
-        let (t, along) = if ray_t.contains(near) {
-            (near, -half_chord)
-        } else if ray_t.contains(far) {
-            (far, half_chord)
-        } else {
-            return None;
+        let clamp = |t: f64| {
+            if t.abs() < f64::INFINITY {
+                bbox.clamp_hit(ray, Interval::UNIVERSE, t).map(Some)
+            } else {
+                Some(None)
+            }
+        };
+        let (t, along) = match (clamp(near)?, clamp(far)?) {
+            (Some(near), _) if ray_t.contains(near) => (near, -half_chord),
+            (_, Some(far)) if ray_t.contains(far) => (far, half_chord),
+            _ => return None,
         };
         // Reprojected onto the sphere (pbrt-v4): the point is then the centre plus a radius
         // along a unit vector, off the surface by a few roundings of its coordinates. The
         // vector comes from the closest point and the half chord, not from `o + t d`, which
         // cancels to nothing for a ray from far away.
-        let (outward, length) = unit_and_length(closest + along * ray.direction);
+        let (outward, length) = unit_and_length(closest + along);
         if !(length > 0.0 && outward.is_finite()) {
             return None;
         }
@@ -175,6 +184,9 @@ impl PdfHittable for Sphere {
     /// that its solid angle underflows); from inside or on it, `1 / (4 pi)` (every
     /// direction).
     fn pdf_value(&self, origin: DVec3, direction: DVec3) -> f64 {
+        // As for a quad: a direction of ordinary length (an exact scaling) keeps the roots
+        // within f64's range.
+        let direction = direction * direction_scale(direction);
         match self.cone(origin) {
             Some((_, one_minus_cos)) => {
                 let hits = self.ahead(origin, direction);

@@ -3,7 +3,7 @@
 use glam::{BVec3, DMat3, DQuat, DVec2, DVec3, DVec4};
 
 use crate::light::{reaching, toward_middle};
-use crate::math::{gamma, sin_cos};
+use crate::math::{direction_scale, gamma, sin_cos};
 use crate::{Aabb, GeometryError, HitRecord, Hittable, Interval, PdfHittable, Ray};
 
 /// `object` moved rigidly: rotated about the origin, then translated. Rays are taken into
@@ -192,13 +192,18 @@ impl<T> Transformed<T> {
         self.inverse * (p - self.translation)
     }
 
+    /// The ray in object space, and what its direction was scaled by before turning (see
+    /// [`direction_scale`]): exactly, so that a direction of extreme length does not turn
+    /// into subnormal or overflowing components; `t` in object space is `t / scale` in
+    /// world space.
     #[inline]
-    fn ray_to_object(&self, ray: &Ray) -> Ray {
-        Ray::new(
+    fn ray_to_object(&self, ray: &Ray) -> (Ray, f64) {
+        let scale = direction_scale(ray.direction);
+        let local = Ray::new(
             self.point_to_object(ray.origin),
-            self.inverse * ray.direction,
-        )
-        .at_time(ray.time)
+            self.inverse * (ray.direction * scale),
+        );
+        (local.at_time(ray.time), scale)
     }
 
     /// An object-space hit in world space.
@@ -256,7 +261,9 @@ fn world_box(bbox: &Aabb, rotation: &DMat3, translation: DVec3) -> Aabb {
 impl<T: Hittable> Hittable for Transformed<T> {
     #[inline]
     fn hit(&self, ray: &Ray, ray_t: Interval) -> Option<HitRecord> {
-        let mut hit = self.hit_to_world(self.object.hit(&self.ray_to_object(ray), ray_t)?);
+        let (local, scale) = self.ray_to_object(ray);
+        let mut hit = self.hit_to_world(self.object.hit(&local, ray_t.scaled(1.0 / scale))?);
+        hit.t = Ray::t_from_rescaled(hit.t, scale, Interval::UNIVERSE)?;
         // The object kept its t within its own box along the moved ray; in world space the
         // rounding of moving the ray may put it past the moved box, which contains the
         // object's: back onto it, so that a Bvh of moved objects finds what a loop finds.
@@ -275,14 +282,16 @@ impl<T: Hittable> Hittable for Transformed<T> {
 
     #[inline]
     fn occluded(&self, ray: &Ray, ray_t: Interval) -> bool {
-        // Near f64's end, moving the hit can overflow, and `hit` then finds nothing.
-        if self.near_overflow {
+        // Near f64's end, moving the hit can overflow, and `hit` then finds nothing; along
+        // a direction of extreme length, so can `t`.
+        let (local, scale) = self.ray_to_object(ray);
+        if self.near_overflow || scale != 1.0 {
             return self.hit(ray, ray_t).is_some();
         }
         // What `hit` asks of the moved box too: the rounding of moving the ray can let the
         // object find a crossing that the world-space box, and so `hit`, turns away. Asked
         // last, so that it costs a slab test only where the object is occluded.
-        self.object.occluded(&self.ray_to_object(ray), ray_t) && self.bbox.hit(ray, ray_t)
+        self.object.occluded(&local, ray_t) && self.bbox.hit(ray, ray_t)
     }
 }
 
@@ -291,6 +300,8 @@ impl<T: PdfHittable> PdfHittable for Transformed<T> {
     /// angle are unchanged by a rigid motion.
     #[inline]
     fn pdf_value(&self, origin: DVec3, direction: DVec3) -> f64 {
+        // Scaled (exactly) to an ordinary length before turning, as rays are.
+        let direction = direction * direction_scale(direction);
         self.object
             .pdf_value(self.point_to_object(origin), self.inverse * direction)
     }

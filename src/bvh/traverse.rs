@@ -91,7 +91,7 @@ struct Reference {
 }
 
 impl Entries for Reference {
-    /// Entries rounded down: still lower bounds.
+    /// Entries rounded down: still lower bounds (`f32::MAX` for one past `f32`'s range).
     #[inline(always)]
     fn entries(&self, node: &Node, t_max: f64) -> [f32; WIDTH] {
         entries(
@@ -100,7 +100,13 @@ impl Entries for Reference {
             &self.ray,
             Interval::new(self.min, t_max),
         )
-        .map(|t| down(DVec3::splat(t)).x)
+        .map(|t| {
+            if t < f64::INFINITY {
+                down(DVec3::splat(t)).x.min(f32::MAX)
+            } else {
+                f32::INFINITY
+            }
+        })
     }
 }
 
@@ -239,45 +245,54 @@ impl Tree {
         if self.nodes.is_empty() {
             return;
         }
+        // The boxes are tested along the direction scaled by a power of two (exactly), so
+        // that a direction of any length f64 holds has finite reciprocals and distances
+        // within the lanes' range; `t_max`, along the ray's own direction, is converted
+        // as it is lowered.
         let box_ray = BoxRay::new(ray);
+        let scaled_t = box_ray.scaled_range(ray_t);
         // The stack is cleared on every walk: a small one for trees shallow enough (most).
         let shallow = (WIDTH - 1) * self.depth <= SHALLOW;
-        match Lanes::new(self, ray, &box_ray, ray_t) {
-            Some(lanes) if shallow => self.descend::<SHALLOW>(t_max, visit, &lanes),
-            Some(lanes) => self.descend::<DEEP>(t_max, visit, &lanes),
+        match Lanes::new(self, ray, &box_ray, scaled_t) {
+            Some(lanes) if shallow => self.descend::<SHALLOW>(t_max, visit, &lanes, &box_ray),
+            Some(lanes) => self.descend::<DEEP>(t_max, visit, &lanes, &box_ray),
             None => {
                 let reference = Reference {
                     origin: self.origin.to_array(),
                     ray: box_ray,
-                    min: ray_t.min,
+                    min: scaled_t.min,
                 };
                 if shallow {
-                    self.descend::<SHALLOW>(t_max, visit, &reference);
+                    self.descend::<SHALLOW>(t_max, visit, &reference, &box_ray);
                 } else {
-                    self.descend::<DEEP>(t_max, visit, &reference);
+                    self.descend::<DEEP>(t_max, visit, &reference, &box_ray);
                 }
             }
         }
     }
 
     /// The walk itself, with `test` giving (lower bounds on) where the ray enters each
-    /// child of a node before `t_max` (`+inf` where it misses).
+    /// child of a node before `t_max` (`+inf` where it misses), in the units of
+    /// `box_ray`'s scaled direction.
     #[inline(always)]
     fn descend<const STACK: usize>(
         &self,
         t_max: &mut f64,
         mut visit: impl FnMut(usize, usize, &mut f64) -> bool,
         test: &impl Entries,
+        box_ray: &BoxRay,
     ) {
         // Pending nodes as (index, count, entry distance): at most WIDTH - 1 per level
         // above the current node, `self.depth` levels at most.
         let mut stack = [(0u32, 0u32, 0.0f32); STACK];
         let mut pending = 0;
         let (mut index, mut count) = (0u32, 0u32);
+        // `t_max` in the boxes' units.
+        let mut limit = box_ray.scaled_max(*t_max);
         loop {
             if count == 0 {
                 let node = &self.nodes[index as usize];
-                let t = test.entries(node, *t_max);
+                let t = test.entries(node, limit);
                 // The children entered, nearest first (an insertion sort of at most four).
                 let mut entered = [(0.0f32, 0u32, 0u32); WIDTH];
                 let mut n = 0;
@@ -302,6 +317,8 @@ impl Tree {
                 }
             } else if visit(index as usize, count as usize, t_max) {
                 return;
+            } else {
+                limit = box_ray.scaled_max(*t_max);
             }
             // The nearest pending node the ray still reaches before t_max.
             loop {
@@ -310,7 +327,7 @@ impl Tree {
                 }
                 pending -= 1;
                 let (i, c, t_entry) = stack[pending];
-                if f64::from(t_entry) <= *t_max {
+                if f64::from(t_entry) <= limit {
                     (index, count) = (i, c);
                     break;
                 }

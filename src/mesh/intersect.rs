@@ -5,18 +5,25 @@
 use glam::{DVec3, Vec3Swizzles};
 
 use crate::Ray;
-use crate::math::{Dd, UNIT_ROUNDOFF, gamma};
+use crate::math::{Dd, UNIT_ROUNDOFF, direction_scale, gamma};
 
 /// A ray in the frame the test works in, set up once per ray: the axes permuted so that
 /// `z` is the direction's largest component (a cyclic permutation, which keeps
-/// orientations), and the shear that takes the direction to `(0, 0, 1)`.
+/// orientations), and the shear that takes the direction to `(0, 0, 1)`. The direction is
+/// first scaled by a power of two where its length is extreme ([`direction_scale`]:
+/// exactly, so every sign is the same), so that `1 / d_z` is finite for a direction of any
+/// length; `t` is scaled back.
 pub(super) struct Sheared {
     origin: DVec3,
+    /// The scaled direction.
     direction: DVec3,
     /// The axis of the direction's largest component.
     kz: usize,
     /// `-d_x / d_z` and `-d_y / d_z` in the permuted frame, and `1 / d_z`.
     shear: DVec3,
+    /// What the direction was scaled by: `t` along the scaled direction is `t * scale`
+    /// along the ray's own.
+    scale: f64,
 }
 
 /// A face the ray crosses: `t`, a bound on its error, and the barycentric weights of its
@@ -59,7 +66,9 @@ impl Sheared {
         if !ray.is_valid() {
             return None;
         }
-        let d = ray.direction.abs();
+        let scale = direction_scale(ray.direction);
+        let direction = ray.direction * scale;
+        let d = direction.abs();
         let kz = if d.x >= d.y && d.x >= d.z {
             0
         } else if d.y >= d.z {
@@ -67,13 +76,14 @@ impl Sheared {
         } else {
             2
         };
-        let p = permute(ray.direction, kz);
+        let p = permute(direction, kz);
         let shear = DVec3::new(-p.x / p.z, -p.y / p.z, 1.0 / p.z);
         shear.is_finite().then_some(Self {
             origin: ray.origin,
-            direction: ray.direction,
+            direction,
             kz,
             shear,
+            scale,
         })
     }
 
@@ -182,9 +192,20 @@ impl Sheared {
                 + edge(corners[2], corners[0])
                 + edge(corners[0], corners[1]));
         let z = a0.z.abs().max(a1.z.abs()).max(a2.z.abs());
-        Some(Crossing {
+        let t_error = t_error(t, det, edge_error, z * s.z.abs());
+        if self.scale == 1.0 {
+            return Some(Crossing {
+                t,
+                t_error,
+                barycentric,
+            });
+        }
+        // Back to the ray's own direction: exact, but for a `t` that under- or overflows
+        // (and then errs by at most the smallest subnormal).
+        let t = t * self.scale;
+        (t.abs() < f64::INFINITY).then(|| Crossing {
             t,
-            t_error: t_error(t, det, edge_error, z * s.z.abs()),
+            t_error: t_error * self.scale + f64::from_bits(1),
             barycentric,
         })
     }

@@ -5,7 +5,7 @@ use glam::{DVec2, DVec3};
 use super::intersect::Sheared;
 use super::{AREA_BLOCK, TriangleMesh, face_area};
 use crate::light::{reaching, toward_middle};
-use crate::math::{sqrt, unit_and_length};
+use crate::math::{direction_scale, sqrt, unit_and_length};
 use crate::{Interval, PdfHittable, Ray};
 
 /// Sampled uniformly by area: a face with probability in proportion to its area, then a
@@ -32,6 +32,9 @@ impl PdfHittable for TriangleMesh {
     /// not a finite number. A direction through an edge that two faces share counts both
     /// (such directions have measure zero: no estimate changes).
     fn pdf_value(&self, origin: DVec3, direction: DVec3) -> f64 {
+        // As for a quad: a direction of ordinary length (an exact scaling) keeps `t` and
+        // `t |d|` within f64's range.
+        let direction = direction * direction_scale(direction);
         let ray = Ray::new(origin, direction);
         let (Some(sheared), area) = (Sheared::new(&ray), self.area()) else {
             return 0.0;
