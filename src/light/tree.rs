@@ -7,7 +7,7 @@ use core::f64::consts::{FRAC_PI_2, PI};
 
 use glam::{DVec2, DVec3};
 
-use crate::math::{atan2, length, sin_cos, sqrt};
+use crate::math::{atan2, gamma, length, sin_cos, sqrt, unit_and_length};
 use crate::{
     Aabb, GeometryError, HitRecord, Hittable, Interval, PdfHittable, Quad, Ray, Triangle,
     TriangleMesh,
@@ -41,8 +41,8 @@ pub enum Emission {
 /// of the nodes its ray meets and a walk up from each light it reaches, where a
 /// `Mixture`'s density visits every light.
 ///
-/// [`LightTree::with_normal`] adds the shading normal: lights wholly below the surface's
-/// horizon are then never picked. As a [`Hittable`], the tree is the list of its lights
+/// [`LightTree::with_normal`] adds the shading normal: lights whose boxes lie wholly below
+/// the surface's horizon are then never picked. As a [`Hittable`], the tree is the list of its lights
 /// (the closest hit; ties go to the earlier light).
 ///
 /// ```
@@ -199,9 +199,14 @@ impl<T: PdfHittable> LightTree<T> {
     }
 
     /// The tree seen from surfaces of the given normal: as a [`PdfHittable`], it picks no
-    /// light that lies wholly below the horizon of a surface at the origin facing
-    /// `normal` (no light there can reach the side the normal faces). Cheap: a renderer
-    /// makes one at every shading point. A normal of length 0 or not finite is ignored.
+    /// light whose box lies wholly below the horizon of a surface at the origin facing
+    /// `normal` (no light there can reach the side the normal faces). Where every light
+    /// the walk can still reach lies below it, the walk picks none: the sample is the zero
+    /// vector (as for an empty tree), and the probabilities of the lights sum to less than
+    /// 1 by that chance, which the density accounts for (a renderer that mixes the tree
+    /// with other strategies stays unbiased). Cheap: a renderer makes one at every shading
+    /// point. A normal of any finite, non-zero length is a direction; one of length 0 or
+    /// not finite is ignored.
     ///
     /// Only for surfaces that do not transmit light: a light below a translucent surface's
     /// horizon still lights it.
@@ -210,7 +215,7 @@ impl<T: PdfHittable> LightTree<T> {
     pub fn with_normal(&self, normal: DVec3) -> WithNormal<'_, T> {
         WithNormal {
             tree: self,
-            normal: normal.try_normalize(),
+            normal: direction_of(normal),
         }
     }
 
@@ -221,42 +226,72 @@ impl<T: PdfHittable> LightTree<T> {
     /// If `i >= self.lights().len()`.
     #[must_use]
     pub fn probability(&self, origin: DVec3, normal: Option<DVec3>, i: usize) -> f64 {
-        let normal = normal.and_then(DVec3::try_normalize);
-        if !origin.is_finite() {
+        let normal = normal.and_then(direction_of);
+        if !origin.is_finite() || self.hidden(origin, normal) {
             return 0.0;
         }
         self.reaching(self.leaves[i] as usize, origin, normal)
     }
 
-    /// The probability that the walk reaches node `n`: the product of the choices on the
-    /// way down to it, found on the way up.
+    /// Whether every light lies wholly below the horizon of a surface at `origin` facing
+    /// `normal` (the root's box does): then nothing is picked.
+    #[inline]
+    fn hidden(&self, origin: DVec3, normal: Option<DVec3>) -> bool {
+        normal.is_some_and(|n| {
+            self.nodes
+                .first()
+                .is_some_and(|root| root.cluster.below(origin, n))
+        })
+    }
+
+    /// The probability that the walk reaches node `n` (given that the tree is not
+    /// [`hidden`](LightTree::hidden)): the product of the choices on the way down to it,
+    /// found on the way up.
     fn reaching(&self, mut n: usize, origin: DVec3, normal: Option<DVec3>) -> f64 {
         let mut p = 1.0;
         while let Some(&parent) = self.parents.get(n).filter(|&&p| p != NONE) {
             let parent = parent as usize;
-            let left = self.left_probability(parent, origin, normal);
+            let Some(left) = self.left_probability(parent, origin, normal) else {
+                return 0.0;
+            };
             p *= if n == parent + 1 { left } else { 1.0 - left };
             n = parent;
         }
         p
     }
 
-    /// The probability that the walk at inner node `n` goes to its first child.
+    /// The probability that the walk at inner node `n` goes to its first child; `None`
+    /// where it can go to neither (see [`LightTree::with_normal`]).
+    ///
+    /// By importance; where both children's is 0 (every light faces away from the point,
+    /// or is too dim to count), by power, among the children not wholly below the
+    /// horizon. Where both are (the parent's box reached above the horizon, its children's
+    /// do not), the walk ends without a light, as pbrt-v4's `BVHLightSampler` does: so a
+    /// light below the horizon is never picked.
     #[inline]
-    fn left_probability(&self, n: usize, origin: DVec3, normal: Option<DVec3>) -> f64 {
+    fn left_probability(&self, n: usize, origin: DVec3, normal: Option<DVec3>) -> Option<f64> {
         let (a, b) = (
             &self.nodes[n + 1].cluster,
             &self.nodes[self.nodes[n].index as usize].cluster,
         );
-        share(a.importance(origin, normal), b.importance(origin, normal))
-            .or_else(|| share(a.power, b.power))
-            .unwrap_or(0.5)
+        share(a.importance(origin, normal), b.importance(origin, normal)).or_else(|| {
+            let seen = |c: &Cluster| {
+                if normal.is_some_and(|m| c.below(origin, m)) {
+                    0.0
+                } else {
+                    c.power
+                }
+            };
+            share(seen(a), seen(b))
+        })
     }
 
     /// The walk from the root: the light `x` in `[0, 1)` picks, and what is left of `x`,
     /// rescaled to `[0, 1)`; `None` for an empty tree.
+    /// `None` for an empty tree, and where the walk picks no light (see
+    /// [`LightTree::left_probability`]).
     fn pick(&self, origin: DVec3, normal: Option<DVec3>, x: f64) -> Option<(usize, f64)> {
-        if self.nodes.is_empty() {
+        if self.nodes.is_empty() || self.hidden(origin, normal) {
             return None;
         }
         // Into [0, 1) (NaN to 0); each choice rescales what is left of it to [0, 1).
@@ -264,7 +299,7 @@ impl<T: PdfHittable> LightTree<T> {
         let mut x = if x > 0.0 { x.min(below_one) } else { 0.0 };
         let mut n = 0;
         while !self.nodes[n].leaf {
-            let left = self.left_probability(n, origin, normal);
+            let left = self.left_probability(n, origin, normal)?;
             if x < left {
                 x /= left;
                 n += 1;
@@ -289,7 +324,7 @@ impl<T: PdfHittable> LightTree<T> {
 
     fn density(&self, origin: DVec3, normal: Option<DVec3>, direction: DVec3) -> f64 {
         let ray = Ray::new(origin, direction);
-        if self.nodes.is_empty() || !ray.is_valid() {
+        if self.nodes.is_empty() || !ray.is_valid() || self.hidden(origin, normal) {
             return 0.0;
         }
         if let [only] = self.lights.as_slice() {
@@ -346,7 +381,7 @@ impl LightTree<Quad<Triangle>> {
             let Ok(quad) = Quad::with_interior(a, b - a, c - a, Triangle) else {
                 continue;
             };
-            let normal = (b - a).cross(c - a);
+            let normal = quad.plane().normal();
             powers.push(sides * PI * radiance * quad.area());
             emission.push(if two_sided {
                 Emission::BothSides(normal)
@@ -530,27 +565,53 @@ impl Cluster {
         }
         let mut importance = self.power * least.0 / d2.max(radius2);
         if let Some(n) = normal {
-            let cos_in = (-toward_p).dot(n);
-            let (cos_seen, _) = minus_clamped(cos_in, || sine(cos_in), (cos_box, sin_box));
-            if cos_seen <= 0.0 {
+            // Below the horizon by the box itself: its bounding sphere can reach above the
+            // horizon where no light does.
+            if self.below(p, n) {
                 return 0.0;
             }
-            importance *= cos_seen;
+            // The bound on the cosine by the sphere; where rounding puts even the sphere
+            // below while the box is not, no bound.
+            let cos_in = (-toward_p).dot(n);
+            let (cos_seen, _) = minus_clamped(cos_in, || sine(cos_in), (cos_box, sin_box));
+            if cos_seen > 0.0 {
+                importance *= cos_seen;
+            }
         }
         if importance.is_nan() { 0.0 } else { importance }
     }
+
+    /// Whether the box lies wholly below the horizon of a surface at `p` facing `n` (unit):
+    /// its corner farthest along `n` lies below the plane through `p`, by more than the
+    /// rounding of the test (the difference, the products and the sums: `gamma(4)` of the
+    /// terms' magnitudes) and of `n`'s normalization (a tilt of a few ulps, `gamma(4)` of
+    /// the distance again), so that a box touching or crossing the plane never counts.
+    #[inline]
+    fn below(&self, p: DVec3, n: DVec3) -> bool {
+        let corner = DVec3::select(n.cmpge(DVec3::ZERO), self.bbox.max(), self.bbox.min());
+        let rel = corner - p;
+        n.dot(rel) < -gamma(8) * rel.abs().element_sum()
+    }
 }
 
-/// A normal as a unit vector, or the reason it cannot be one.
+/// An emission normal as a unit vector, or the reason it cannot be one: any finite,
+/// non-zero vector is a normal, however long or short.
 fn unit(normal: DVec3) -> Result<DVec3, GeometryError> {
     if !normal.is_finite() {
         return Err(GeometryError::NonFinite {
             what: "emission normal",
         });
     }
-    normal.try_normalize().ok_or(GeometryError::ZeroVector {
+    direction_of(normal).ok_or(GeometryError::ZeroVector {
         what: "emission normal",
     })
+}
+
+/// `v` as a unit vector, for any finite, non-zero `v` (scaled first, so that its square
+/// neither over- nor underflows); `None` for a zero or non-finite one.
+fn direction_of(v: DVec3) -> Option<DVec3> {
+    let (unit, length) = unit_and_length(v);
+    (length > 0.0 && unit.is_finite()).then_some(unit)
 }
 
 /// A light as the build sorts it.
@@ -772,7 +833,8 @@ impl<T: PdfHittable> PdfHittable for LightTree<T> {
 
     /// `u.x` makes the walk's choices (each rescaled to `[0, 1)` within the choice made)
     /// and, what is left of it, the chosen light's own `u.x`. The zero vector for an empty
-    /// tree or an origin that is not finite.
+    /// tree or an origin that is not finite (and, [`with_normal`](LightTree::with_normal),
+    /// where the walk picks no light).
     fn sample_direction(&self, origin: DVec3, u: DVec2) -> DVec3 {
         self.sample(origin, None, u)
     }
@@ -886,10 +948,11 @@ mod tests {
         /// The walk's probabilities, found light by light from the leaf up, are a
         /// distribution over the lights of power (each in `[0, 1]`, summing to 1 within
         /// the rounding of the sum: each probability is a product of at most `depth`
-        /// shares, each within an ulp, and the sum of `n` terms adds `n` more), and a
-        /// stratified walk from the root lands on each light as often as that says: each
-        /// light takes one interval of `x`, so `N` evenly spaced `x` land on it its
-        /// probability times `N`, within one (and the rounding).
+        /// shares, each within an ulp, and the sum of `n` terms adds `n` more; with a
+        /// normal, to at most 1, the rest being the chance of no light), and a stratified
+        /// walk from the root lands on each light as often as that says: each light takes
+        /// one interval of `x`, so `N` evenly spaced `x` land on it its probability times
+        /// `N`, within one (and the rounding).
         #[test]
         fn the_walk_picks_each_light_with_its_probability(
             specs in specs(),
@@ -902,7 +965,12 @@ mod tests {
             let sum: f64 = p.iter().sum();
             let depth = 2 * specs.len();
             let rounding = (depth + specs.len()) as f64 * f64::EPSILON;
-            prop_assert!((sum - 1.0).abs() <= rounding, "sum {}", sum);
+            // With a normal, the walk may end without a light (where every light it can
+            // still reach lies below the horizon): then the sum is less than 1.
+            prop_assert!(sum <= 1.0 + rounding, "sum {}", sum);
+            if normal.is_none() {
+                prop_assert!((sum - 1.0).abs() <= rounding, "sum {}", sum);
+            }
             for (i, &pi) in p.iter().enumerate() {
                 prop_assert!((0.0..=1.0).contains(&pi));
                 if specs[i].4 == 0.0 {
@@ -911,17 +979,26 @@ mod tests {
             }
             let normal = normal.and_then(DVec3::try_normalize);
             const N: usize = 4096;
-            let mut counts = alloc::vec![0usize; specs.len()];
+            let (mut counts, mut none) = (alloc::vec![0usize; specs.len()], 0usize);
             for k in 0..N {
-                let (i, rest) = tree.pick(origin, normal, (k as f64 + 0.5) / N as f64).unwrap();
-                prop_assert!((0.0..1.0).contains(&rest));
-                counts[i] += 1;
+                match tree.pick(origin, normal, (k as f64 + 0.5) / N as f64) {
+                    Some((i, rest)) => {
+                        prop_assert!((0.0..1.0).contains(&rest));
+                        counts[i] += 1;
+                    }
+                    None => none += 1,
+                }
             }
+            // Each light, and no light, takes intervals of `x`: one per dead end of the
+            // walk for no light, so its count may be off by one for each.
             for (i, &count) in counts.iter().enumerate() {
                 let expected = p[i] * N as f64;
                 prop_assert!((count as f64 - expected).abs() <= 1.0 + 1e-9 * N as f64,
                     "light {}: {} picks, expected {}", i, count, expected);
             }
+            let expected = (1.0 - sum) * N as f64;
+            prop_assert!((none as f64 - expected).abs() <= specs.len() as f64 + 1e-9 * N as f64,
+                "no light: {} picks, expected {}", none, expected);
         }
 
         /// The density of a sampled direction is the sum, over every light, of its
@@ -946,8 +1023,9 @@ mod tests {
             prop_assert!((pdf - loop_sum).abs() <= rounding * loop_sum, "{} against {}", pdf, loop_sum);
             // A light that can be reached from here gets a density: the sampled direction
             // reaches the light it was drawn toward.
-            let (i, _) = tree.pick(origin, normal.and_then(DVec3::try_normalize), u[0]).unwrap();
-            if tree.lights()[i].pdf_value(origin, d) > 0.0 {
+            if let Some((i, _)) = tree.pick(origin, normal.and_then(DVec3::try_normalize), u[0])
+                && tree.lights()[i].pdf_value(origin, d) > 0.0
+            {
                 prop_assert!(pdf > 0.0);
             }
             prop_assert!(!tree.pdf_value(origin, d).is_nan());
