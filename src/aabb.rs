@@ -3,7 +3,7 @@
 
 use glam::DVec3;
 
-use crate::math::{direction_scale, gamma, scaled_outward};
+use crate::math::{direction_scale, gamma, ordinary, scaled_outward};
 use crate::{Interval, Ray};
 
 /// Below this fraction of its longest side, a side of a box is padded: flat shapes get
@@ -185,7 +185,26 @@ impl Aabb {
     #[inline]
     #[must_use]
     pub fn ray_span(&self, ray: &Ray, ray_t: Interval) -> Option<Interval> {
-        let lanes = |v: DVec3| [[v.x], [v.y], [v.z]];
+        // (One test of the direction's largest component says both that the ray is valid
+        // and that it needs no scaling: a check of each on every call cost a box test half
+        // again.)
+        if !(ray.origin.is_finite() && ordinary(ray.direction)) {
+            return self.ray_span_rescaled(ray, ray_t);
+        }
+        let ([t0], [t1]) = slab_spans(
+            lanes(self.min),
+            lanes(self.max),
+            &BoxRay::with_scale(ray, 1.0),
+            ray_t,
+        );
+        (t0 < f64::INFINITY).then_some(Interval::new(t0, t1))
+    }
+
+    /// [`Aabb::ray_span`] for a ray whose direction's length is extreme, along the
+    /// direction scaled to an ordinary length (see [`BoxRay`]); `None` for an invalid ray.
+    #[cold]
+    #[inline(never)]
+    fn ray_span_rescaled(&self, ray: &Ray, ray_t: Interval) -> Option<Interval> {
         if !ray.is_valid() {
             return None;
         }
@@ -288,6 +307,12 @@ pub(crate) fn slab_spans<const N: usize>(
     (entries, t1)
 }
 
+/// A box's corner as the one-box lanes of [`slab_spans`].
+#[inline(always)]
+fn lanes(v: DVec3) -> [[f64; 1]; 3] {
+    [[v.x], [v.y], [v.z]]
+}
+
 impl Default for Aabb {
     /// [`Aabb::EMPTY`].
     fn default() -> Self {
@@ -317,7 +342,12 @@ pub(crate) struct BoxRay {
 impl BoxRay {
     #[inline]
     pub(crate) fn new(ray: &Ray) -> Self {
-        let scale = direction_scale(ray.direction);
+        Self::with_scale(ray, direction_scale(ray.direction))
+    }
+
+    /// The ray with its direction scaled by the power of two `scale` (exactly).
+    #[inline(always)]
+    fn with_scale(ray: &Ray, scale: f64) -> Self {
         let inv_direction = (ray.direction * scale).recip();
         let negative = [
             inv_direction.x.is_sign_negative(),

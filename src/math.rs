@@ -61,8 +61,8 @@ pub(crate) fn power_of_two_scale(largest: f64) -> f64 {
 
 /// The power of two by which a ray's direction is scaled before tests whose arithmetic
 /// over- or underflows for directions far from unit length (reciprocals, squares, the
-/// `f32` lanes): 1 for a direction whose largest component lies in `[2^-32, 2^32]` (every
-/// ordinary ray, which so pays nothing), and otherwise the one that brings it into `[1, 2)`
+/// `f32` lanes): 1 for an [`ordinary`] direction (every ordinary ray, which so pays
+/// nothing), and otherwise the one that brings its largest component into `[1, 2)`
 /// (or to `2^-52` and up, for a subnormal one), where that scaling is exact; 1 where it is
 /// not (a huge direction whose smallest components would turn subnormal), and for a
 /// direction that cannot be traced (zero, infinite or NaN). A scaled direction needs no
@@ -72,11 +72,9 @@ pub(crate) fn power_of_two_scale(largest: f64) -> f64 {
 #[inline]
 #[must_use]
 pub(crate) fn direction_scale(d: glam::DVec3) -> f64 {
-    const SMALL: f64 = 1.0 / (1u64 << 32) as f64;
-    const LARGE: f64 = (1u64 << 32) as f64;
     let largest = d.abs().max_element();
     // (Nor is a zero, infinite or NaN direction scaled: it cannot be traced.)
-    if (SMALL..=LARGE).contains(&largest) || !(largest > 0.0 && largest < f64::INFINITY) {
+    if ordinary(d) || !(largest > 0.0 && largest < f64::INFINITY) {
         return 1.0;
     }
     let scale = power_of_two_scale(largest);
@@ -85,6 +83,24 @@ pub(crate) fn direction_scale(d: glam::DVec3) -> f64 {
     } else {
         1.0
     }
+}
+
+/// Whether a direction needs no scaling ([`direction_scale`] is 1 for it): `|d|_1` lies
+/// in `[2^-32, 2^32]` (so it is also finite, non-zero and not NaN, which the sum
+/// propagates).
+#[inline(always)]
+#[must_use]
+pub(crate) fn ordinary(d: glam::DVec3) -> bool {
+    ordinary_length(d.abs().element_sum())
+}
+
+/// [`ordinary`] of a direction whose `|d|_1` is `d1`.
+#[inline(always)]
+#[must_use]
+pub(crate) fn ordinary_length(d1: f64) -> bool {
+    const SMALL: f64 = 1.0 / (1u64 << 32) as f64;
+    const LARGE: f64 = (1u64 << 32) as f64;
+    (SMALL..=LARGE).contains(&d1)
 }
 
 /// `x * factor` for a power of two `factor`: exact in the normal range; where the product

@@ -136,11 +136,13 @@ impl<S: Interior> Quad<S> {
     }
 
     /// [`Quad::decide`] for a ray whose direction's length is extreme, along the same ray
-    /// with the direction scaled (exactly) to an ordinary length.
+    /// with the direction scaled (exactly) to an ordinary length; `None` for a ray that
+    /// cannot be traced.
     #[cold]
     #[inline(never)]
-    fn decide_rescaled(&self, scaled: &Ray, ray_t: Interval, scale: f64) -> Option<PlaneHit> {
-        let mut hit = self.decide(scaled, ray_t.scaled(1.0 / scale))?;
+    fn decide_rescaled(&self, ray: &Ray, ray_t: Interval) -> Option<PlaneHit> {
+        let (scaled, scale) = ray.rescaled()?;
+        let mut hit = self.decide(&scaled, ray_t.scaled(1.0 / scale))?;
         hit.t = Ray::t_from_rescaled(hit.t, scale, ray_t)?;
         Some(hit)
     }
@@ -183,9 +185,6 @@ impl<S: Interior> Quad<S> {
     /// whole ray, and only then compared with `ray_t`.
     #[inline(always)]
     fn decide(&self, ray: &Ray, ray_t: Interval) -> Option<PlaneHit> {
-        if let Some((scaled, scale)) = ray.rescaled() {
-            return self.decide_rescaled(&scaled, ray_t, scale);
-        }
         let plane = &self.plane;
         // Whatever the decision below, the reported t is at least t - 3 reach (the refined
         // crossing's own reach is no larger than this one's): `crossing` rejects a t past
@@ -199,6 +198,7 @@ impl<S: Interior> Quad<S> {
         let (mut hit, region) = match plane.crossing(ray, ray_t, window)? {
             Crossing::Inside(hit) => return self.settle(ray, ray_t, hit),
             Crossing::Region(hit, region) => (hit, region),
+            Crossing::Rescale => return self.decide_rescaled(ray, ray_t),
         };
         match self.shape.meets(&region) {
             Meets::Inside => {}

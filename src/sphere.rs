@@ -102,14 +102,29 @@ impl Sphere {
     /// point of a root is the closest point moved by minus (near) or plus (far) that, a
     /// form that stays accurate where `o + t d` cancels (a ray from far away).
     ///
-    /// Solved along the direction scaled by a power of two where its length is extreme
-    /// (exactly: [`direction_scale`]), so that `d.d` neither over- nor underflows; the
-    /// roots are scaled back, and may then pass f64's range (infinite, never NaN).
+    /// Where `d.d` leaves `[2^-128, 2^66]` (a direction of extreme length, whose square
+    /// could over- or underflow), solved along the same ray with the direction scaled by a
+    /// power of two (exactly: [`Ray::rescaled`], after which `d.d` is at least `2^-104`)
+    /// and the roots scaled back, which may then pass f64's range (infinite, never NaN).
+    #[inline]
     fn solve(&self, ray: &Ray) -> Option<(f64, f64, DVec3, DVec3)> {
+        self.solve_as::<true>(ray)
+    }
+
+    /// [`Sphere::solve`], which rescales only where `RESCALE` (no recursion, so the
+    /// common path inlines).
+    #[inline(always)]
+    fn solve_as<const RESCALE: bool>(&self, ray: &Ray) -> Option<(f64, f64, DVec3, DVec3)> {
         let f = ray.origin - self.center;
-        let scale = direction_scale(ray.direction);
-        let d = ray.direction * scale;
+        let d = ray.direction;
         let a = d.dot(d);
+        if RESCALE
+            && !((1.0 / (1u128 << 64) as f64 / (1u128 << 64) as f64..=(1u128 << 66) as f64)
+                .contains(&a))
+            && let Some(rescaled) = ray.rescaled()
+        {
+            return self.solve_rescaled(rescaled);
+        }
         let b = f.dot(d); // half of the usual b
         let closest = f - (b / a) * d;
         let r2 = self.radius * self.radius;
@@ -119,11 +134,21 @@ impl Sphere {
         }
         let c = f.dot(f) - r2;
         let q = -(b + b.signum() * sqrt(a * discriminant));
-        let (t0, t1) = (scale * (c / q), scale * (q / a));
+        let (t0, t1) = (c / q, q / a);
         let (near, far) = if t0 <= t1 { (t0, t1) } else { (t1, t0) };
         let half_chord = sqrt(discriminant / a) * d;
         (!(near.is_nan() || far.is_nan()) && half_chord.is_finite())
             .then_some((near, far, closest, half_chord))
+    }
+}
+
+impl Sphere {
+    /// [`Sphere::solve`] along a ray whose direction was [rescaled](Ray::rescaled).
+    #[cold]
+    #[inline(never)]
+    fn solve_rescaled(&self, (scaled, scale): (Ray, f64)) -> Option<(f64, f64, DVec3, DVec3)> {
+        self.solve_as::<false>(&scaled)
+            .map(|(near, far, closest, chord)| (near * scale, far * scale, closest, chord))
     }
 }
 

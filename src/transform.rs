@@ -3,7 +3,7 @@
 use glam::{BVec3, DMat3, DQuat, DVec2, DVec3, DVec4};
 
 use crate::light::{reaching, toward_middle};
-use crate::math::{direction_scale, gamma, sin_cos};
+use crate::math::{direction_scale, gamma, ordinary, sin_cos};
 use crate::{Aabb, GeometryError, HitRecord, Hittable, Interval, PdfHittable, Ray};
 
 /// `object` moved rigidly: rotated about the origin, then translated. Rays are taken into
@@ -192,18 +192,13 @@ impl<T> Transformed<T> {
         self.inverse * (p - self.translation)
     }
 
-    /// The ray in object space, and what its direction was scaled by before turning (see
-    /// [`direction_scale`]): exactly, so that a direction of extreme length does not turn
-    /// into subnormal or overflowing components; `t` in object space is `t / scale` in
-    /// world space.
     #[inline]
-    fn ray_to_object(&self, ray: &Ray) -> (Ray, f64) {
-        let scale = direction_scale(ray.direction);
-        let local = Ray::new(
+    fn ray_to_object(&self, ray: &Ray) -> Ray {
+        Ray::new(
             self.point_to_object(ray.origin),
-            self.inverse * (ray.direction * scale),
-        );
-        (local.at_time(ray.time), scale)
+            self.inverse * ray.direction,
+        )
+        .at_time(ray.time)
     }
 
     /// An object-space hit in world space.
@@ -261,9 +256,10 @@ fn world_box(bbox: &Aabb, rotation: &DMat3, translation: DVec3) -> Aabb {
 impl<T: Hittable> Hittable for Transformed<T> {
     #[inline]
     fn hit(&self, ray: &Ray, ray_t: Interval) -> Option<HitRecord> {
-        let (local, scale) = self.ray_to_object(ray);
-        let mut hit = self.hit_to_world(self.object.hit(&local, ray_t.scaled(1.0 / scale))?);
-        hit.t = Ray::t_from_rescaled(hit.t, scale, Interval::UNIVERSE)?;
+        if !ordinary(ray.direction) {
+            return self.hit_rescaled(ray, ray_t);
+        }
+        let mut hit = self.hit_to_world(self.object.hit(&self.ray_to_object(ray), ray_t)?);
         // The object kept its t within its own box along the moved ray; in world space the
         // rounding of moving the ray may put it past the moved box, which contains the
         // object's: back onto it, so that a Bvh of moved objects finds what a loop finds.
@@ -284,14 +280,31 @@ impl<T: Hittable> Hittable for Transformed<T> {
     fn occluded(&self, ray: &Ray, ray_t: Interval) -> bool {
         // Near f64's end, moving the hit can overflow, and `hit` then finds nothing; along
         // a direction of extreme length, so can `t`.
-        let (local, scale) = self.ray_to_object(ray);
-        if self.near_overflow || scale != 1.0 {
+        if self.near_overflow || !ordinary(ray.direction) {
             return self.hit(ray, ray_t).is_some();
         }
         // What `hit` asks of the moved box too: the rounding of moving the ray can let the
         // object find a crossing that the world-space box, and so `hit`, turns away. Asked
         // last, so that it costs a slab test only where the object is occluded.
-        self.object.occluded(&local, ray_t) && self.bbox.hit(ray, ray_t)
+        self.object.occluded(&self.ray_to_object(ray), ray_t) && self.bbox.hit(ray, ray_t)
+    }
+}
+
+impl<T: Hittable> Transformed<T> {
+    /// [`Hittable::hit`] for a direction of extreme length: along the same ray with the
+    /// direction scaled (exactly) to an ordinary one before it is turned, which would
+    /// otherwise round its components into the subnormals or past `f64::MAX`; `None` for a
+    /// ray that cannot be traced.
+    #[cold]
+    #[inline(never)]
+    fn hit_rescaled(&self, ray: &Ray, ray_t: Interval) -> Option<HitRecord> {
+        let (scaled, scale) = ray.rescaled()?;
+        let mut hit = self.hit(&scaled, ray_t.scaled(1.0 / scale))?;
+        hit.t = Ray::t_from_rescaled(hit.t, scale, Interval::UNIVERSE)?;
+        // Within the box's span along the ray as given, as every hit is.
+        let span = self.bbox.ray_span(ray, ray_t)?;
+        hit.t = hit.t.clamp(span.min, span.max.max(span.min));
+        Some(hit)
     }
 }
 
