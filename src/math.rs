@@ -103,19 +103,21 @@ pub(crate) fn ordinary_length(d1: f64) -> bool {
     (SMALL..=LARGE).contains(&d1)
 }
 
-/// `x * factor` for a power of two `factor`: exact in the normal range; where the product
-/// rounds (under- or overflow), moved one float down (`down`) or up, so that it stays a
-/// bound on the exact product.
+/// `x * factor` for a power of two `factor`, rounded down (`down`) or up: exact in the
+/// normal range; where the product under- or overflows, the float on that side of the
+/// exact product. (Scaled back, the rounded product tells which side it fell on: that
+/// scaling is exact.)
 #[inline]
 #[must_use]
 pub(crate) fn scaled_outward(x: f64, factor: f64, down: bool) -> f64 {
     let y = x * factor;
-    if y / factor == x {
-        y
-    } else if down {
+    let back = y / factor;
+    if down && back > x {
         y.next_down()
-    } else {
+    } else if !down && back < x {
         y.next_up()
+    } else {
+        y
     }
 }
 

@@ -301,10 +301,11 @@ impl<T: Hittable> Transformed<T> {
         let (scaled, scale) = ray.rescaled()?;
         let mut hit = self.hit(&scaled, ray_t.scaled(1.0 / scale))?;
         hit.t = Ray::t_from_rescaled(hit.t, scale, Interval::UNIVERSE)?;
-        // Within the box's span along the ray as given, as every hit is.
-        let span = self.bbox.ray_span(ray, ray_t)?;
+        // Within the box's span along the whole ray, as every hit is, then in range: so
+        // that `t` does not depend on `ray_t.max`, which the conversions round.
+        let span = self.bbox.ray_span(ray, Interval::UNIVERSE)?;
         hit.t = hit.t.clamp(span.min, span.max.max(span.min));
-        Some(hit)
+        ray_t.contains(hit.t).then_some(hit)
     }
 }
 
