@@ -3,7 +3,7 @@
 
 use glam::DVec3;
 
-use crate::{Aabb, GeometryError, HitRecord, Hittable, Interval, MaterialId, Quad, Ray};
+use crate::{Aabb, Found, GeometryError, HitRecord, Hittable, Interval, MaterialId, Quad, Ray};
 
 /// The axis-aligned box with opposite corners `a` and `b`, as six [`Quad`]s with outward
 /// normals (the book's `box(a, b, mat)`): a ray from outside hits it with `front_face`
@@ -33,6 +33,9 @@ use crate::{Aabb, GeometryError, HitRecord, Hittable, Interval, MaterialId, Quad
 pub struct Cuboid {
     faces: [Quad; 6],
     bbox: Aabb,
+    /// Whether a face's record could overflow (a box near `f64::MAX`): `find` then asks
+    /// `hit`, which passes over such a face as the list of faces does.
+    near_overflow: bool,
 }
 
 impl Cuboid {
@@ -79,7 +82,11 @@ impl Cuboid {
         let bbox = faces
             .iter()
             .fold(Aabb::new(min, max), |b, f| b.union(&f.bounding_box()));
-        Ok(Self { faces, bbox })
+        Ok(Self {
+            faces,
+            bbox,
+            near_overflow: bbox.near_overflow(),
+        })
     }
 
     /// The same box with material `material` on every face.
@@ -119,5 +126,39 @@ impl Hittable for Cuboid {
     #[inline]
     fn occluded(&self, ray: &Ray, ray_t: Interval) -> bool {
         self.bbox.hit(ray, ray_t) && self.faces.as_slice().occluded(ray, ray_t)
+    }
+
+    /// The closest face's crossing, that face's number (in [`Cuboid::faces`]'s order) in
+    /// `part`.
+    fn find(&self, ray: &Ray, ray_t: Interval) -> Option<Found> {
+        if self.near_overflow {
+            return self.hit(ray, ray_t).map(Found::of_record);
+        }
+        if !self.bbox.hit(ray, ray_t) {
+            return None;
+        }
+        let mut closest: Option<Found> = None;
+        for (face, quad) in self.faces.iter().enumerate() {
+            let max = closest.map_or(ray_t.max, |c| c.t);
+            if let Some(mut found) = quad.find(ray, Interval::new(ray_t.min, max))
+                // Of crossings at exactly the same t, the earlier face's stands.
+                && closest.is_none_or(|c| found.t < c.t)
+            {
+                found.part = face as u32;
+                closest = Some(found);
+            }
+        }
+        closest
+    }
+
+    /// `None` for a `found` naming no face.
+    #[inline]
+    fn record(&self, ray: &Ray, ray_t: Interval, found: &Found) -> Option<HitRecord> {
+        if let Some(made) = found.record() {
+            return Some(*made);
+        }
+        self.faces
+            .get(found.part as usize)?
+            .record(ray, ray_t, found)
     }
 }

@@ -51,9 +51,20 @@ pub trait Hittable: Send + Sync {
     /// `InteractionFromIntersection` for the same reason).
     ///
     /// The two halves must agree with `hit`: `find` is `Some` with `t` exactly when `hit` is
-    /// `Some` with that `t`, and `record` then returns that hit. The default implementations
-    /// keep this by calling `hit` (the record is built, then asked for again by `record`):
-    /// a shape whose record is costly overrides both.
+    /// `Some` with that `t`, and `record` then returns that hit. The provided ones keep
+    /// this by calling `hit` once and keeping its record in the [`Found`]
+    /// ([`Found::of_record`]), which `record` returns: a shape whose record is costly
+    /// overrides both, so that losing candidates never build one.
+    ///
+    /// # What a shape's `hit` may rely on
+    /// Every container in hitkit (lists, [`Bvh`](crate::Bvh) and trees nested in trees,
+    /// [`Transformed`](crate::Transformed), [`Moving`](crate::Moving), `Box`, `Arc`, `&`)
+    /// asks each object once per query: `hit`, or `find` and then `record` for the winner
+    /// alone, or `occluded`; never `hit` twice, and never the same subtree twice. So a
+    /// shape that implements `hit` alone may answer at random, as the book's constant
+    /// medium draws its scattering distance inside `hit`: the distance drawn is the one
+    /// reported. (A container may ask again only where the winner's record cannot be made,
+    /// its point past `f64`'s range.)
     ///
     /// ```
     /// use hitkit::glam::DVec3;
@@ -66,14 +77,20 @@ pub trait Hittable: Send + Sync {
     /// assert_eq!(Some(hit), quad.hit(&ray, Interval::FORWARD));
     /// ```
     fn find(&self, ray: &Ray, ray_t: Interval) -> Option<Found> {
-        self.hit(ray, ray_t).map(|hit| Found::at(hit.t))
+        self.hit(ray, ray_t).map(Found::of_record)
     }
 
     /// The record of `found`, which [`find`](Hittable::find) returned for the same `ray`
     /// and `ray_t` (or for `ray_t` with a larger `max`: a search lowers it as it goes).
     /// `None` only where the record cannot be made (its point past f64's range).
+    ///
+    /// The provided one returns the record `found` holds ([`Found::record`]), and asks
+    /// `hit` again only for a `found` that holds none.
     fn record(&self, ray: &Ray, ray_t: Interval, found: &Found) -> Option<HitRecord> {
-        self.hit(ray, Interval::new(ray_t.min, found.t))
+        match found.record() {
+            Some(made) => Some(*made),
+            None => self.hit(ray, Interval::new(ray_t.min, found.t)),
+        }
     }
 }
 

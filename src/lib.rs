@@ -97,6 +97,7 @@ mod bvh;
 mod cuboid;
 mod error;
 mod hittable;
+mod instance;
 mod interior;
 mod interval;
 mod light;

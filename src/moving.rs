@@ -3,8 +3,9 @@
 
 use glam::DVec3;
 
+use crate::instance;
 use crate::math::gamma;
-use crate::{Aabb, GeometryError, HitRecord, Hittable, Interval, Ray};
+use crate::{Aabb, Found, GeometryError, HitRecord, Hittable, Interval, Ray};
 
 /// `object` moving in a straight line: at time `tau` it is moved by `tau * displacement`,
 /// for `tau` the ray's [`time`](Ray::time) clamped to `[0, 1]` (the shutter interval, as in
@@ -108,12 +109,7 @@ impl<T: Hittable> Hittable for Moving<T> {
     #[inline]
     fn hit(&self, ray: &Ray, ray_t: Interval) -> Option<HitRecord> {
         let offset = self.offset_at(ray.time);
-        let mut hit = self.object.hit(&back_by(ray, offset), ray_t)?;
-        // The object stands at exactly `object + offset`; the point moves there with one
-        // rounding.
-        let point = hit.point + offset;
-        hit.point_error += gamma(1) * point.abs();
-        hit.point = point;
+        let mut hit = moved(self.object.hit(&back_by(ray, offset), ray_t)?, offset);
         // As for `Transformed`: the rounding of moving the ray may take t past the box.
         let span = self.bbox.ray_span(ray, ray_t)?;
         hit.t = hit.t.clamp(span.min, span.max.max(span.min));
@@ -127,6 +123,37 @@ impl<T: Hittable> Hittable for Moving<T> {
         self.bbox
     }
 
+    /// The object's crossing, found along the ray moved back, with its `t` kept within
+    /// this instance's box along `ray`, as `hit` reports it.
+    #[inline]
+    fn find(&self, ray: &Ray, ray_t: Interval) -> Option<Found> {
+        // Near f64's end the record can overflow: `hit` decides there.
+        if self.near_overflow {
+            return self.hit(ray, ray_t).map(Found::of_record);
+        }
+        let offset = self.offset_at(ray.time);
+        let local = back_by(ray, offset);
+        let found = self.object.find(&local, ray_t)?;
+        instance::found_in_world(
+            found,
+            &self.bbox,
+            ray,
+            ray_t,
+            |f| self.object.record(&local, ray_t, f),
+            |h| moved(h, offset),
+        )
+    }
+
+    #[inline]
+    fn record(&self, ray: &Ray, ray_t: Interval, found: &Found) -> Option<HitRecord> {
+        let offset = self.offset_at(ray.time);
+        instance::record_in_world(
+            found,
+            |f| self.object.record(&back_by(ray, offset), ray_t, f),
+            |h| moved(h, offset),
+        )
+    }
+
     #[inline]
     fn occluded(&self, ray: &Ray, ray_t: Interval) -> bool {
         // Near f64's end, moving the hit can overflow, and `hit` then finds nothing.
@@ -138,6 +165,16 @@ impl<T: Hittable> Hittable for Moving<T> {
             .occluded(&back_by(ray, self.offset_at(ray.time)), ray_t)
             && self.bbox.hit(ray, ray_t)
     }
+}
+
+/// The object's hit moved by `offset`: the object stands at exactly `object + offset`, and
+/// the point moves there with one rounding.
+#[inline]
+fn moved(mut hit: HitRecord, offset: DVec3) -> HitRecord {
+    let point = hit.point + offset;
+    hit.point_error += gamma(1) * point.abs();
+    hit.point = point;
+    hit
 }
 
 /// `ray` moved back by `offset`: the ray as the object, at rest at time 0, sees it.

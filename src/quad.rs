@@ -244,11 +244,7 @@ impl<S: Interior> Hittable for Quad<S> {
     #[inline]
     fn find(&self, ray: &Ray, ray_t: Interval) -> Option<Found> {
         let hit = self.decide(ray, ray_t)?;
-        Some(Found {
-            t: hit.t,
-            coords: DVec3::new(hit.alpha, hit.beta, 0.0),
-            part: 0,
-        })
+        Some(Found::new(hit.t, DVec3::new(hit.alpha, hit.beta, 0.0), 0))
     }
 
     #[inline]

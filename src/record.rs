@@ -14,10 +14,22 @@ pub struct MaterialId(pub u32);
 
 /// What a closest-hit search carries for a shape's crossing: its `t`, and what the shape
 /// needs to build the [`HitRecord`] later ([`Hittable::record`](crate::Hittable::record)),
-/// for the closest crossing alone. About a fifth of a record's size.
+/// for the closest crossing alone.
 ///
 /// `coords` and `part` mean what the shape that made it says (a quad's `(alpha, beta)`, a
-/// mesh's barycentrics and face); only that shape reads them back.
+/// mesh's barycentrics and face); only that shape reads them back. Or it holds the whole
+/// record, already made ([`Found::of_record`]): what the provided
+/// [`find`](crate::Hittable::find) keeps of a shape that implements `hit` alone, and of a
+/// container (a [`Bvh`](crate::Bvh) in a `Bvh`, a list), so that the winner's record is
+/// never asked for again: a container calls each object once per query.
+///
+/// ```
+/// use hitkit::glam::DVec3;
+/// use hitkit::Found;
+///
+/// let found = Found::new(2.0, DVec3::new(0.25, 0.5, 0.0), 3);
+/// assert_eq!((found.t, found.part, found.record()), (2.0, 3, None));
+/// ```
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Found {
     /// Ray parameter of the crossing, as [`HitRecord::t`] will report it.
@@ -26,17 +38,47 @@ pub struct Found {
     pub coords: DVec3,
     /// Which part of the shape (a face, an object): the shape's own numbering.
     pub part: u32,
+    /// The record, where it was made during the search.
+    record: Option<HitRecord>,
 }
 
 impl Found {
+    /// A crossing at `t` with the shape's own coordinates and part.
+    #[inline]
+    #[must_use]
+    pub fn new(t: f64, coords: DVec3, part: u32) -> Self {
+        Self {
+            t,
+            coords,
+            part,
+            record: None,
+        }
+    }
+
     /// A crossing at `t`, with no coordinates or part.
     #[inline]
     #[must_use]
     pub fn at(t: f64) -> Self {
+        Self::new(t, DVec3::ZERO, 0)
+    }
+
+    /// The crossing of a record already made: [`Hittable::record`](crate::Hittable::record)
+    /// returns it as it is. See also [`Found::record`].
+    #[inline]
+    #[must_use]
+    pub fn of_record(record: HitRecord) -> Self {
         Self {
-            t,
-            ..Self::default()
+            record: Some(record),
+            ..Self::at(record.t)
         }
+    }
+
+    /// The record this crossing holds, where it was made during the search
+    /// ([`Found::of_record`]).
+    #[inline]
+    #[must_use]
+    pub fn record(&self) -> Option<&HitRecord> {
+        self.record.as_ref()
     }
 }
 

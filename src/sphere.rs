@@ -8,7 +8,9 @@ use glam::{DVec2, DVec3};
 
 use crate::light::{reaching, toward_middle};
 use crate::math::{acos, atan2, direction_scale, gamma, sin_cos, sqrt, unit_and_length};
-use crate::{Aabb, GeometryError, HitRecord, Hittable, Interval, MaterialId, PdfHittable, Ray};
+use crate::{
+    Aabb, Found, GeometryError, HitRecord, Hittable, Interval, MaterialId, PdfHittable, Ray,
+};
 
 /// A sphere: centre and radius. `uv` is `(phi / 2 pi, theta / pi)`, `phi` around the y axis
 /// from -x (as the book's `get_sphere_uv`), `theta` from -y.
@@ -153,7 +155,14 @@ impl Sphere {
 }
 
 impl Hittable for Sphere {
+    #[inline]
     fn hit(&self, ray: &Ray, ray_t: Interval) -> Option<HitRecord> {
+        self.record(ray, ray_t, &self.find(ray, ray_t)?)
+    }
+
+    /// In `coords`, the vector from the centre to the hit, before it is made unit length:
+    /// the point, normal and `uv` (an `acos` and an `atan2`) are made for the winner alone.
+    fn find(&self, ray: &Ray, ray_t: Interval) -> Option<Found> {
         if !ray.is_valid() {
             return None;
         }
@@ -174,14 +183,18 @@ impl Hittable for Sphere {
             (_, Some(far)) if ray_t.contains(far) => (far, half_chord),
             _ => return None,
         };
+        // The vector comes from the closest point and the half chord, not from `o + t d`,
+        // which cancels to nothing for a ray from far away. Finite and not zero, it has a
+        // direction.
+        let outward = closest + along;
+        (outward.is_finite() && outward != DVec3::ZERO).then(|| Found::new(t, outward, 0))
+    }
+
+    #[inline]
+    fn record(&self, ray: &Ray, _: Interval, found: &Found) -> Option<HitRecord> {
         // Reprojected onto the sphere (pbrt-v4): the point is then the centre plus a radius
-        // along a unit vector, off the surface by a few roundings of its coordinates. The
-        // vector comes from the closest point and the half chord, not from `o + t d`, which
-        // cancels to nothing for a ray from far away.
-        let (outward, length) = unit_and_length(closest + along);
-        if !(length > 0.0 && outward.is_finite()) {
-            return None;
-        }
+        // along a unit vector, off the surface by a few roundings of its coordinates.
+        let (outward, _) = unit_and_length(found.coords);
         let offset = self.radius * outward;
         let point = self.center + offset;
         let point_error = gamma(5) * (self.center.abs() + offset.abs());
@@ -189,7 +202,7 @@ impl Hittable for Sphere {
         let phi = atan2(-outward.z, outward.x) + PI;
         let uv = DVec2::new(phi / TAU, theta / PI);
         Some(
-            HitRecord::new(ray, t, point, outward)
+            HitRecord::new(ray, found.t, point, outward)
                 .with_point_error(point_error)
                 .with_uv(uv)
                 .with_material(self.material),

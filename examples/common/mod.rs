@@ -9,6 +9,7 @@
 pub mod camera;
 pub mod cli;
 pub mod material;
+pub mod medium;
 pub mod render;
 pub mod scenes;
 

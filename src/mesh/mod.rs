@@ -644,11 +644,11 @@ impl Hittable for TriangleMesh {
     /// The face's barycentrics in `coords`, its position in the tree's order in `part`.
     fn find(&self, ray: &Ray, ray_t: Interval) -> Option<Found> {
         let (position, crossing) = self.closest(ray, ray_t)?;
-        Some(Found {
-            t: crossing.t,
-            coords: crossing.barycentric,
-            part: position as u32,
-        })
+        Some(Found::new(
+            crossing.t,
+            crossing.barycentric,
+            position as u32,
+        ))
     }
 
     /// `None` for a `found` naming no face of this mesh.

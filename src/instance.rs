@@ -1,0 +1,50 @@
+//! What [`Transformed`](crate::Transformed) and [`Moving`](crate::Moving) share: the
+//! two-step search through an instance, whose object finds its crossing along the ray
+//! moved into the object's frame and reports it along the world ray.
+
+use crate::{Aabb, Found, HitRecord, Interval, Ray};
+
+/// The object's crossing `found` (along the moved ray) as the instance's: its `t` kept
+/// within the instance's box span along `ray`, since moving the ray rounds and can take a
+/// crossing just past the box, which holds the object's (so that a `Bvh` of instances finds
+/// what a loop finds). A record the object made during its search is moved to the world
+/// now (`to_world`), so that a record held by the instance's `Found` is always its own; so
+/// is the record of a crossing whose `t` had to move (rare), made with `record`.
+#[inline]
+pub(crate) fn found_in_world(
+    found: Found,
+    bbox: &Aabb,
+    ray: &Ray,
+    ray_t: Interval,
+    record: impl FnOnce(&Found) -> Option<HitRecord>,
+    to_world: impl FnOnce(HitRecord) -> HitRecord,
+) -> Option<Found> {
+    let span = bbox.ray_span(ray, ray_t)?;
+    let t = found.t.clamp(span.min, span.max.max(span.min));
+    let made = match found.record() {
+        Some(local) => *local,
+        None if t == found.t => return Some(found),
+        None => record(&found)?,
+    };
+    Some(Found::of_record(HitRecord {
+        t,
+        ..to_world(made)
+    }))
+}
+
+/// The record of a crossing that [`found_in_world`] returned: the one it holds, or the
+/// object's own (`record`) moved to the world, at the crossing's `t`.
+#[inline]
+pub(crate) fn record_in_world(
+    found: &Found,
+    record: impl FnOnce(&Found) -> Option<HitRecord>,
+    to_world: impl FnOnce(HitRecord) -> HitRecord,
+) -> Option<HitRecord> {
+    if let Some(made) = found.record() {
+        return Some(*made);
+    }
+    Some(HitRecord {
+        t: found.t,
+        ..to_world(record(found)?)
+    })
+}
