@@ -224,24 +224,32 @@ impl Aabb {
         largest.is_nan() || largest >= f64::MAX / 16.0
     }
 
-    /// `t` moved into the box's [span](Aabb::ray_span) along the ray, or `None` when the
-    /// ray misses the box: how shapes keep their hits consistent with their boxes.
+    /// `t` moved into the box's [span](Aabb::ray_span) along the whole ray, or `None` when
+    /// the ray misses the box: how shapes keep their hits consistent with their boxes.
     ///
     /// Most hits are well inside: where the point `o + t d` is inside the box by more than
     /// the rounding of the slab test (`(bound - o) (1 / d)`, `gamma(3)` of `|bound - o|`) and
     /// of the point itself (`gamma(2)` of `|o| + |t d|`), the span holds `t` and the slab
-    /// test (three divisions) is skipped.
-    #[inline]
-    pub(crate) fn clamp_hit(&self, ray: &Ray, ray_t: Interval, t: f64) -> Option<f64> {
+    /// test (three divisions) is skipped. (The test inlines; the slab test does not.)
+    #[inline(always)]
+    pub(crate) fn clamp_hit(&self, ray: &Ray, t: f64) -> Option<f64> {
         let step = t * ray.direction;
         let point = ray.origin + step;
         let margin =
             gamma(5) * (ray.origin.abs() + step.abs() + self.min.abs().max(self.max.abs()));
+        // (A NaN `t` fails the comparisons.)
         let inside = (self.min + margin).cmple(point).all() && point.cmple(self.max - margin).all();
-        if inside && ray_t.contains(t) {
+        if inside {
             return Some(t);
         }
-        let span = self.ray_span(ray, ray_t)?;
+        self.clamp_by_span(ray, t)
+    }
+
+    /// [`Aabb::clamp_hit`] by the slab test.
+    #[cold]
+    #[inline(never)]
+    fn clamp_by_span(&self, ray: &Ray, t: f64) -> Option<f64> {
+        let span = self.ray_span(ray, Interval::UNIVERSE)?;
         Some(t.clamp(span.min, span.max.max(span.min)))
     }
 }

@@ -425,15 +425,17 @@ impl Plane {
         let (alpha, beta) = (p.dot(self.to_alpha), p.dot(self.to_beta));
         let hit = PlaneHit { t, alpha, beta };
         let parts = self.parts(t, q_minus_o, p, denom.abs(), d1);
-        if !beyond(&parts, t, ray_t.min) {
+        // Clearly outside first: most crossings a render tests are, and clause 5's test
+        // (`beyond`) would turn none of them into a hit.
+        let clearly = window.and_then(|(window, filled)| {
+            self.clearly(&parts, &hit, window)
+                .filter(|c| matches!(c, Clearly::Outside) || filled)
+        });
+        if matches!(clearly, Some(Clearly::Outside)) || !beyond(&parts, t, ray_t.min) {
             return None;
         }
-        if let Some((window, filled)) = window {
-            match self.clearly(&parts, &hit, window) {
-                Some(Clearly::Outside) => return None,
-                Some(Clearly::Inside) if filled => return Some(Crossing::Inside(hit)),
-                _ => {}
-            }
+        if matches!(clearly, Some(Clearly::Inside)) {
+            return Some(Crossing::Inside(hit));
         }
         // (Tried: this test, without the division, before the coordinates and the clear
         // decision, so that crossings behind the closest hit so far skip them; on the
@@ -759,9 +761,7 @@ impl Hittable for Plane {
         // As for a quad: t kept in the box's span along the whole ray, then compared with
         // ray_t, so that it never depends on ray_t.max.
         let mut hit = self.intersect(ray, Interval::new(ray_t.min, f64::INFINITY))?;
-        hit.t = self
-            .bounding_box()
-            .clamp_hit(ray, Interval::UNIVERSE, hit.t)?;
+        hit.t = self.bounding_box().clamp_hit(ray, hit.t)?;
         if !ray_t.contains(hit.t) {
             return None;
         }

@@ -131,7 +131,7 @@ impl<S: Interior> Quad<S> {
     /// the plane it was computed as still lies within it.
     #[inline(always)]
     fn settle(&self, ray: &Ray, ray_t: Interval, mut hit: PlaneHit) -> Option<PlaneHit> {
-        hit.t = self.bbox.clamp_hit(ray, Interval::UNIVERSE, hit.t)?;
+        hit.t = self.bbox.clamp_hit(ray, hit.t)?;
         ray_t.contains(hit.t).then_some(hit)
     }
 

@@ -173,7 +173,7 @@ impl Hittable for Sphere {
         let bbox = self.bounding_box();
         let clamp = |t: f64| {
             if t.abs() < f64::INFINITY {
-                bbox.clamp_hit(ray, Interval::UNIVERSE, t).map(Some)
+                bbox.clamp_hit(ray, t).map(Some)
             } else {
                 Some(None)
             }

@@ -556,7 +556,7 @@ impl TriangleMesh {
         let p = self.corners_at(position);
         let mut crossing = sheared.test(&p)?;
         let beyond = crossing.t - crossing.t_error >= ray_t.min || ray_t.min == f64::NEG_INFINITY;
-        crossing.t = face_box(p).clamp_hit(ray, Interval::UNIVERSE, crossing.t)?;
+        crossing.t = face_box(p).clamp_hit(ray, crossing.t)?;
         if !(beyond && ray_t.contains(crossing.t)) {
             return None;
         }
