@@ -26,6 +26,8 @@ pub struct Sphere {
     center: DVec3,
     radius: f64,
     material: MaterialId,
+    /// Made once: every query clamps its roots to it.
+    bbox: Aabb,
 }
 
 impl Sphere {
@@ -49,10 +51,14 @@ impl Sphere {
                 domain: "(1e-154, 1e154) roughly: positive, with a representable square",
             });
         }
+        let r = DVec3::splat(radius);
+        // `center ± r` rounds once: a rounding's worth of room keeps the box conservative.
+        let bbox = Aabb::new(center - r, center + r).grown(gamma(1) * (center.abs() + r));
         Ok(Self {
             center,
             radius,
             material: MaterialId::default(),
+            bbox,
         })
     }
 
@@ -170,7 +176,7 @@ impl Hittable for Sphere {
         // Each root kept in the box's span along the whole ray (so that a Bvh finds what a
         // loop finds), then the first in range; a root past f64's range (along a direction
         // of extreme length) is no hit.
-        let bbox = self.bounding_box();
+        let bbox = &self.bbox;
         let clamp = |t: f64| {
             if t.abs() < f64::INFINITY {
                 bbox.clamp_hit(ray, t).map(Some)
@@ -209,10 +215,9 @@ impl Hittable for Sphere {
         )
     }
 
+    #[inline]
     fn bounding_box(&self) -> Aabb {
-        let r = DVec3::splat(self.radius);
-        // `center ± r` rounds once: a rounding's worth of room keeps the box conservative.
-        Aabb::new(self.center - r, self.center + r).grown(gamma(1) * (self.center.abs() + r))
+        self.bbox
     }
 }
 
