@@ -184,10 +184,14 @@ impl Hittable for Sphere {
                 Some(None)
             }
         };
-        let (t, along) = match (clamp(near)?, clamp(far)?) {
-            (Some(near), _) if ray_t.contains(near) => (near, -half_chord),
-            (_, Some(far)) if ray_t.contains(far) => (far, half_chord),
-            _ => return None,
+        // (The far root is clamped only where the near one is out of range: both miss the
+        // box or neither does, since a clamp that keeps its root has the box's span hold it.)
+        let (t, along) = match clamp(near)? {
+            Some(near) if ray_t.contains(near) => (near, -half_chord),
+            _ => match clamp(far)? {
+                Some(far) if ray_t.contains(far) => (far, half_chord),
+                _ => return None,
+            },
         };
         // The vector comes from the closest point and the half chord, not from `o + t d`,
         // which cancels to nothing for a ray from far away. Finite and not zero, it has a

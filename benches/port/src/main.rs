@@ -31,10 +31,11 @@ Options:
                  Week's final scene 200 x 200 at 64 samples, the Cornell box 300 x 300 at
                  100, with hitkit's lamp sampled by solid angle and by area), for a quick
                  look [default: 1]
+  --only SIDE    render on one side only, `hitkit` or `book` (for a profiler), no table
   -h, --help     this text";
 
 fn main() -> ExitCode {
-    let (mut rounds, mut scale) = (3usize, 1.0f64);
+    let (mut rounds, mut scale, mut only) = (3usize, 1.0f64, None);
     let mut args = std::env::args().skip(1);
     while let Some(flag) = args.next() {
         if flag == "-h" || flag == "--help" {
@@ -45,6 +46,10 @@ fn main() -> ExitCode {
         let ok = match flag.as_str() {
             "--rounds" => value.parse().map(|v| rounds = v).is_ok() && rounds > 0,
             "--scale" => value.parse().map(|v| scale = v).is_ok() && scale > 0.0 && scale <= 1.0,
+            "--only" if value == "hitkit" || value == "book" => {
+                only = Some(value.clone());
+                true
+            }
             _ => false,
         };
         if !ok {
@@ -58,6 +63,20 @@ fn main() -> ExitCode {
         scenes::cornell(size(300.0), size(100.0), false),
         scenes::cornell(size(300.0), size(100.0), true),
     ];
+    if let Some(side) = only {
+        for scene in &scenes {
+            let r = if side == "hitkit" {
+                render(&Hitkit::new(scene), scene)
+            } else {
+                render(&Naive::new(scene), scene)
+            };
+            println!(
+                "{}: mean {:.5} ± {:.5}",
+                scene.name, r.mean, r.standard_error
+            );
+        }
+        return ExitCode::SUCCESS;
+    }
     println!(
         "| scene | book's geometry (s) | hitkit (s) | ratio | mean, book's | mean, hitkit | agree |"
     );
