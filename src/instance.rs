@@ -4,10 +4,19 @@
 
 use crate::{Aabb, Found, HitRecord, Interval, Ray};
 
-/// The object's crossing `found` (along the moved ray) as the instance's: its `t` kept
-/// within the instance's box span along `ray`, since moving the ray rounds and can take a
-/// crossing just past the box, which holds the object's (so that a `Bvh` of instances finds
-/// what a loop finds). A record the object made during its search is moved to the world
+/// The `t` of the object's crossing (along the moved ray) as the instance's: kept within
+/// the instance's box span along the whole of `ray`, since moving the ray rounds and can
+/// take a crossing just past the box, which holds the object's (so that a `Bvh` of
+/// instances finds what a loop finds); then in `ray_t`, so that it does not depend on
+/// `ray_t.max`. `clamp_hit` settles most without a slab test.
+#[inline]
+pub(crate) fn settle(bbox: &Aabb, ray: &Ray, ray_t: Interval, t: f64) -> Option<f64> {
+    let t = bbox.clamp_hit(ray, t)?;
+    ray_t.contains(t).then_some(t)
+}
+
+/// The object's crossing `found` (along the moved ray) as the instance's, its `t`
+/// [settled](settle). A record the object made during its search is moved to the world
 /// now (`to_world`), so that a record held by the instance's `Found` is always its own; so
 /// is the record of a crossing whose `t` had to move (rare), made with `record`.
 #[inline]
@@ -19,8 +28,7 @@ pub(crate) fn found_in_world(
     record: impl FnOnce(&Found) -> Option<HitRecord>,
     to_world: impl FnOnce(HitRecord) -> HitRecord,
 ) -> Option<Found> {
-    let span = bbox.ray_span(ray, ray_t)?;
-    let t = found.t.clamp(span.min, span.max.max(span.min));
+    let t = settle(bbox, ray, ray_t, found.t)?;
     let made = match found.record() {
         Some(local) => *local,
         None if t == found.t => return Some(found),

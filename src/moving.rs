@@ -110,9 +110,7 @@ impl<T: Hittable> Hittable for Moving<T> {
     fn hit(&self, ray: &Ray, ray_t: Interval) -> Option<HitRecord> {
         let offset = self.offset_at(ray.time);
         let mut hit = moved(self.object.hit(&back_by(ray, offset), ray_t)?, offset);
-        // As for `Transformed`: the rounding of moving the ray may take t past the box.
-        let span = self.bbox.ray_span(ray, ray_t)?;
-        hit.t = hit.t.clamp(span.min, span.max.max(span.min));
+        hit.t = instance::settle(&self.bbox, ray, ray_t, hit.t)?;
         (hit.point.is_finite() && hit.point_error.is_finite()).then_some(hit)
     }
 

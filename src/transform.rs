@@ -261,12 +261,7 @@ impl<T: Hittable> Hittable for Transformed<T> {
             return self.hit_rescaled(ray, ray_t);
         }
         let mut hit = self.hit_to_world(self.object.hit(&self.ray_to_object(ray), ray_t)?);
-        // The object kept its t within its own box along the moved ray; in world space the
-        // rounding of moving the ray may put it past the moved box, which contains the
-        // object's: back onto it, so that a Bvh of moved objects finds what a loop finds.
-        // The box's own test (not `clamp_hit`'s shortcut) decides, as in `occluded`.
-        let span = self.bbox.ray_span(ray, ray_t)?;
-        hit.t = hit.t.clamp(span.min, span.max.max(span.min));
+        hit.t = instance::settle(&self.bbox, ray, ray_t, hit.t)?;
         (hit.point.is_finite() && hit.point_error.is_finite()).then_some(hit)
     }
 
@@ -332,11 +327,8 @@ impl<T: Hittable> Transformed<T> {
         let (scaled, scale) = ray.rescaled()?;
         let mut hit = self.hit(&scaled, ray_t.scaled(1.0 / scale))?;
         hit.t = Ray::t_from_rescaled(hit.t, scale, Interval::UNIVERSE)?;
-        // Within the box's span along the whole ray, as every hit is, then in range: so
-        // that `t` does not depend on `ray_t.max`, which the conversions round.
-        let span = self.bbox.ray_span(ray, Interval::UNIVERSE)?;
-        hit.t = hit.t.clamp(span.min, span.max.max(span.min));
-        ray_t.contains(hit.t).then_some(hit)
+        hit.t = instance::settle(&self.bbox, ray, ray_t, hit.t)?;
+        Some(hit)
     }
 }
 
