@@ -66,15 +66,18 @@ pub(crate) fn power_of_two_scale(largest: f64) -> f64 {
 /// (or to `2^-52` and up, for a subnormal one), where that scaling is exact; 1 where it is
 /// not (a huge direction whose smallest components would turn subnormal), and for a
 /// direction that cannot be traced (zero, infinite or NaN). A scaled direction needs no
-/// further scaling. Since the
-/// scaling is exact, a `t` found along the scaled direction is exactly `1 / scale` times
-/// the one along the given direction, barring over- and underflow.
+/// further scaling. Since the scaling is exact, a `t` found along the scaled direction is
+/// exactly `1 / scale` times the one along the given direction, barring over- and
+/// underflow.
 #[inline]
 #[must_use]
 pub(crate) fn direction_scale(d: glam::DVec3) -> f64 {
+    if ordinary(d) {
+        return 1.0;
+    }
     let largest = d.abs().max_element();
     // (Nor is a zero, infinite or NaN direction scaled: it cannot be traced.)
-    if ordinary(d) || !(largest > 0.0 && largest < f64::INFINITY) {
+    if !(largest > 0.0 && largest < f64::INFINITY) {
         return 1.0;
     }
     let scale = power_of_two_scale(largest);
