@@ -226,18 +226,20 @@ impl Aabb {
     /// `t` moved into the box's [span](Aabb::ray_span) along the whole ray, or `None` when
     /// the ray misses the box: how shapes keep their hits consistent with their boxes.
     ///
-    /// Most hits are well inside: where the point `o + t d` is inside the box by more than
-    /// the rounding of the slab test (`(bound - o) (1 / d)`, `gamma(3)` of `|bound - o|`) and
-    /// of the point itself (`gamma(2)` of `|o| + |t d|`), the span holds `t` and the slab
-    /// test (three divisions) is skipped. (The test inlines; the slab test does not.)
+    /// Most hits are well inside, and are settled without the slab test (three divisions):
+    /// where `t d` lies between `min - o` and `max - o` by more than `gamma(6)` of
+    /// `|t d| + |bound - o|` per axis, `t` is within every slab's computed span. (Each
+    /// distance `(bound - o) (1 / d)` is within `gamma(3)` of its own; the test's three
+    /// roundings, and the span's subnormal floor, fit in the rest.) Distances from the
+    /// origin, not the point's coordinates: a flat box (an axis-aligned quad's) is thinner
+    /// than the rounding of a coordinate far from the origin, not than that of its distance.
     #[inline(always)]
     pub(crate) fn clamp_hit(&self, ray: &Ray, t: f64) -> Option<f64> {
         let step = t * ray.direction;
-        let point = ray.origin + step;
-        let margin =
-            gamma(5) * (ray.origin.abs() + step.abs() + self.min.abs().max(self.max.abs()));
+        let (lo, hi) = (self.min - ray.origin, self.max - ray.origin);
+        let margin = gamma(6) * (step.abs() + lo.abs().max(hi.abs())) + f64::MIN_POSITIVE;
         // (A NaN `t` fails the comparisons.)
-        let inside = (self.min + margin).cmple(point).all() && point.cmple(self.max - margin).all();
+        let inside = (lo + margin).cmple(step).all() && step.cmple(hi - margin).all();
         if inside {
             return Some(t);
         }
