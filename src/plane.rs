@@ -451,11 +451,11 @@ impl Plane {
         }
         let t = numerator / denom;
         let d1 = l1(ray.direction);
-        let finite = (t.abs() < f64::INFINITY) & (denom.abs() < f64::INFINITY);
         // (Decided by `d1`, which the bounds need anyway. Tried: a test of the direction's
-        // components on every call; slower on the quads scene.)
+        // components on every call; slower on the quads scene.) An ordinary direction's
+        // `n.d` is finite, so only `t` is left to check.
         let ordinary = ordinary_length(d1);
-        if !(finite && ordinary && t >= ray_t.min) {
+        if !(t.abs() < f64::INFINITY && ordinary && t >= ray_t.min) {
             return (!ordinary).then_some(Crossing::Rescale);
         }
         // The same point as `intersect`'s `(o - q) + t d`: negating a difference is exact.
@@ -465,17 +465,10 @@ impl Plane {
         // Most crossings a render tests are clearly outside the shape or inside it: decided
         // by bounds that need no more than `m` (see `Quick`), as the exact decision would.
         if let Some((window, filled)) = window {
-            let m = l1(q_minus_o) + t.abs() * d1;
-            let slack = denom.abs() - (gamma(3) + self.frame_error) * d1;
-            match self.clearly_quick(m, slack, d1, &hit, window) {
+            let c = denom.abs();
+            match self.clearly_quick(q_minus_o, &hit, c, d1, ray_t.min, window) {
                 Some(Clearly::Outside) => return None,
-                Some(Clearly::Inside)
-                    if filled
-                        && (ray_t.min == f64::NEG_INFINITY
-                            || (t - ray_t.min) * slack >= 2.0 * self.quick.height * m) =>
-                {
-                    return Some(Crossing::Inside(hit));
-                }
+                Some(Clearly::Inside) if filled => return Some(Crossing::Inside(hit)),
                 _ => {}
             }
         }
@@ -549,35 +542,46 @@ impl Plane {
     }
 
     /// [`Plane::clearly`] with its terms bounded by multiples of `m = |q - o|_1 + |t| |d|_1`
-    /// ([`Quick`]): looser, so it decides fewer crossings, but each one as `clearly` would
-    /// (every term is at least `clearly`'s, whose factor of 2 covers the rounding here
-    /// too), at about half the cost. Inside also asks, as `beyond` does, that the crossing
-    /// lie past `ray_t.min` by more than its rounding (`height m / slack`).
+    /// ([`Quick`]), from `q - o`, `c = |n.d|` and `d1 = |d|_1` as computed: looser, so it
+    /// decides fewer crossings, but each one as `clearly` would (every term is at least
+    /// `clearly`'s, whose factor of 2 covers the rounding here too), at about half the
+    /// cost. Inside also asks, as `beyond` does, that the crossing lie past `min` by more
+    /// than twice the rounding of `t` (`height m / slack`).
     #[inline(always)]
     fn clearly_quick(
         &self,
-        m: f64,
-        slack: f64,
-        d1: f64,
+        q_minus_o: DVec3,
         hit: &PlaneHit,
+        c: f64,
+        d1: f64,
+        min: f64,
         [lo, hi]: [DVec2; 2],
     ) -> Option<Clearly> {
-        // (A NaN slack fails this, and a NaN or infinite coordinate every test below.)
-        if !(slack > 0.0) {
+        let m = l1(q_minus_o) + hit.t.abs() * d1;
+        let slack = c - (gamma(3) + self.frame_error) * d1;
+        // (A NaN coordinate fails every test below; an infinite one is outside, where
+        // `crossing` would reject it too.)
+        if slack.is_nan() || slack <= 0.0 {
             return None;
         }
-        let reach = (self.quick.rate * m + self.quick.fixed) * d1;
-        let center = [hit.alpha, hit.beta];
-        let mut inside = true;
-        for i in 0..2 {
-            let (x, rate) = (center[i], reach * self.coordinate_scale[i]);
-            let rounding = 2.0 * gamma(3) * x.abs();
-            if ((lo[i] - x).max(x - hi[i]) - rounding) * slack > rate {
-                return Some(Clearly::Outside);
-            }
-            inside &= ((x - lo[i]).min(hi[i] - x) - rounding) * slack > rate;
+        let reach = self.quick.rate * m + self.quick.fixed;
+        // Per coordinate, the distance `delta` of the centre within the rectangle's edges
+        // (negative beyond them), from its middle `c` and half-width `h`. `clearly`'s
+        // rounding term `2 gamma(3) |x|` is at most `2 gamma(3) (|c| + h + |delta|)`; twice
+        // that covers this test's own rounding (of `c`, `h` and `delta`) too. With
+        // `slack <= (1 + gamma(10)) d1` the constant part joins the rate.
+        let shrink = slack * (1.0 - 4.0 * gamma(3));
+        let center = DVec2::new(hit.alpha, hit.beta);
+        let (mid, half) = ((lo + hi) * 0.5, (hi - lo) * 0.5);
+        let delta = (half - (center - mid).abs()) * shrink;
+        let fixed = 4.0 * gamma(3) * (1.0 + gamma(10)) * (mid.abs() + half);
+        let rate = (reach * self.coordinate_scale + fixed) * d1;
+        if delta.cmplt(-rate).any() {
+            return Some(Clearly::Outside);
         }
-        inside.then_some(Clearly::Inside)
+        let beyond =
+            min == f64::NEG_INFINITY || (hit.t - min) * slack >= 2.0 * self.quick.height * m;
+        (delta.cmpgt(rate).all() && beyond).then_some(Clearly::Inside)
     }
 
     /// The region of [`Plane::crossing_region`], from `q - o`, the point `p` and `|n.d|` as
@@ -874,5 +878,152 @@ impl Hittable for Plane {
         min[axis] = self.q[axis];
         max[axis] = self.q[axis];
         Aabb::new(min, max)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{Clearly, Plane, beyond, l1};
+    use crate::{Interval, Ray};
+    use glam::{DVec2, DVec3};
+
+    /// A xorshift stream: uniform numbers in `[0, 1)`.
+    struct Stream(u64);
+
+    impl Stream {
+        fn uniform(&mut self) -> f64 {
+            self.0 ^= self.0 << 13;
+            self.0 ^= self.0 >> 7;
+            self.0 ^= self.0 << 17;
+            (self.0 >> 11) as f64 / (1u64 << 53) as f64
+        }
+        fn range(&mut self, lo: f64, hi: f64) -> f64 {
+            lo + (hi - lo) * self.uniform()
+        }
+        fn power(&mut self, lo: i32, hi: i32) -> f64 {
+            10f64.powi(lo + (self.uniform() * f64::from(hi - lo + 1)) as i32)
+        }
+        fn vector(&mut self) -> DVec3 {
+            DVec3::new(
+                self.range(-1.0, 1.0),
+                self.range(-1.0, 1.0),
+                self.range(-1.0, 1.0),
+            )
+        }
+        /// A plane coordinate: anywhere around the unit interval, or within `10^-j` of one
+        /// of its ends (or of the ends of `[-1, 1]`), on either side.
+        fn coordinate(&mut self) -> f64 {
+            if self.uniform() < 0.3 {
+                return self.range(-1.5, 1.5);
+            }
+            let edge = [0.0, 1.0, -1.0][(self.uniform() * 3.0) as usize];
+            let side = if self.uniform() < 0.5 { -1.0 } else { 1.0 };
+            edge + side * self.power(-17, -1)
+        }
+    }
+
+    /// How far the region reaches from its centre per coordinate, and whether it lies
+    /// wholly within `[lo, hi]` or wholly beyond one of its edges.
+    fn region_against(
+        plane: &Plane,
+        ray: &Ray,
+        hit: &super::PlaneHit,
+        [lo, hi]: [DVec2; 2],
+    ) -> (bool, bool) {
+        let region = plane.crossing_region(ray, hit);
+        let reach = region.half_length() + region.radius;
+        let (low, high) = (region.center - reach, region.center + reach);
+        let within = low.cmpge(lo).all() && high.cmple(hi).all();
+        let beside = low.cmpgt(hi).any() || high.cmplt(lo).any();
+        (within, beside)
+    }
+
+    /// The clear decisions before the region (`clearly_quick`, then `clearly`) decide
+    /// nothing the region would not: a crossing either finds clearly inside (outside) the
+    /// rectangle has its whole region inside it (beside it), and the quick test decides
+    /// only what `clearly` decides too, alike. Planes of sizes 1e-3 to 1e3 at offsets up
+    /// to 4e10 with edges at any angle, rays aimed at points within 1e-17 to 1e-1 of an
+    /// edge (where the decisions' margins are), from any direction or grazing the plane
+    /// at slopes down to 1e-15, from near and far, with directions of every ordinary
+    /// length. Some decisions must fall near the region's own width, or the test would
+    /// not probe the bounds.
+    #[test]
+    fn clear_decisions_agree_with_the_region() {
+        let mut s = Stream(0x0c1e_a4de_c1de_5eed);
+        let windows = [[DVec2::ZERO, DVec2::ONE], [-DVec2::ONE, DVec2::ONE]];
+        let (mut quick_decided, mut tight_decided, mut close) = (0, 0, 0);
+        for _ in 0..60_000 {
+            let size = s.power(-3, 3);
+            let offset = [0.0, 1e3, 1e6, 1e9, -3.7e10][(s.uniform() * 5.0) as usize];
+            let q = DVec3::splat(offset) + s.vector() * size;
+            let (u, v) = (
+                s.vector() * size * s.power(-1, 1),
+                s.vector() * size * s.power(-1, 1),
+            );
+            let Ok(plane) = Plane::new(q, u, v) else {
+                continue;
+            };
+            let target = q + s.coordinate() * u + s.coordinate() * v;
+            let direction = if s.uniform() < 0.5 {
+                s.vector()
+            } else {
+                let along = s.vector().reject_from(plane.normal());
+                along + plane.normal() * along.length() * s.power(-15, -1) * s.range(-1.0, 1.0)
+            };
+            let distance = size * s.power(-2, 6);
+            let origin = target - direction.normalize_or_zero() * distance;
+            let ray = Ray::new(origin, direction * s.power(-3, 3));
+            let Some(hit) = plane.intersect(&ray, Interval::UNIVERSE) else {
+                continue;
+            };
+            let q_minus_o = plane.q - ray.origin;
+            let p = hit.t * ray.direction - q_minus_o;
+            let (c, d1) = (plane.normal.dot(ray.direction).abs(), l1(ray.direction));
+            let parts = plane.parts(hit.t, q_minus_o, p, c, d1);
+            for window in windows {
+                let quick = plane.clearly_quick(q_minus_o, &hit, c, d1, f64::NEG_INFINITY, window);
+                let tight = plane.clearly(&parts, &hit, window);
+                let (within, beside) = region_against(&plane, &ray, &hit, window);
+                let name = |d: &Option<Clearly>| match d {
+                    Some(Clearly::Inside) => "inside",
+                    Some(Clearly::Outside) => "outside",
+                    None => "undecided",
+                };
+                let case = || format!("{plane:?} {ray:?} {hit:?} {window:?}");
+                for (decision, test) in [(&quick, "quick"), (&tight, "tight")] {
+                    match decision {
+                        Some(Clearly::Inside) => assert!(within, "{test} inside: {}", case()),
+                        Some(Clearly::Outside) => assert!(beside, "{test} outside: {}", case()),
+                        None => {}
+                    }
+                }
+                if quick.is_some() {
+                    assert_eq!(name(&quick), name(&tight), "quick, tight: {}", case());
+                    quick_decided += 1;
+                    // Within 64 times the region's reach of an edge: the bound is probed.
+                    let region = plane.crossing_region(&ray, &hit);
+                    let reach = (region.half_length() + region.radius).max_element();
+                    let center = region.center;
+                    let margin = (center - window[0])
+                        .abs()
+                        .min((window[1] - center).abs())
+                        .min_element();
+                    close += usize::from(margin < 64.0 * reach);
+                }
+                tight_decided += usize::from(tight.is_some());
+            }
+            // Inside past `min` only where `beyond` finds it past whatever the rounding.
+            for min in [0.0, hit.t * 0.5, hit.t * (1.0 - 1e-12)] {
+                if let Some(Clearly::Inside) =
+                    plane.clearly_quick(q_minus_o, &hit, c, d1, min, windows[0])
+                {
+                    assert!(beyond(&parts, hit.t, min), "beyond {min}: {ray:?} {hit:?}");
+                }
+            }
+        }
+        assert!(
+            quick_decided > 20_000 && tight_decided > quick_decided && close > 100,
+            "{quick_decided} {tight_decided} {close}"
+        );
     }
 }
