@@ -141,10 +141,13 @@ impl Sphere {
             return None; // a miss, or a NaN from an invalid ray
         }
         let c = f.dot(f) - r2;
-        let q = -(b + b.signum() * sqrt(a * discriminant));
+        // One square root serves both: `sqrt(a disc) / a = sqrt(disc / a)`, the half chord
+        // in units of `t`.
+        let root = sqrt(a * discriminant);
+        let q = -(b + b.signum() * root);
         let (t0, t1) = (c / q, q / a);
         let (near, far) = if t0 <= t1 { (t0, t1) } else { (t1, t0) };
-        let half_chord = sqrt(discriminant / a) * d;
+        let half_chord = (root / a) * d;
         (!(near.is_nan() || far.is_nan()) && half_chord.is_finite())
             .then_some((near, far, closest, half_chord))
     }
