@@ -14,7 +14,8 @@
 # same image. The book's renderer runs on one thread.
 #
 # Scenes:
-# - quads: The Next Week's quads() against `--example quads`.
+# - quads: The Next Week's quads() against `--example quads --roulette no` (the book
+#   ends paths at the depth limit alone).
 # - Cornell, like for like: The Rest of Your Life's main() (a tall box and a glass sphere,
 #   the lamp and the sphere sampled as lights, no Russian roulette) against
 #   `--example cornell_book`.
@@ -26,7 +27,7 @@
 set -euo pipefail
 
 if [ $# -ne 1 ] || [ "$1" = "-h" ] || [ "$1" = "--help" ]; then
-    sed -n '2,26p' "$0" | sed 's/^# \{0,1\}//'
+    sed -n '2,27p' "$0" | sed 's/^# \{0,1\}//'
     [ $# -eq 1 ] && exit 0 || exit 2
 fi
 book="$1"
@@ -91,7 +92,7 @@ c_depth="$(setting "$rest/main.cc" main max_depth)"
 for v in "$q_width" "$q_samples" "$q_depth" "$c_width" "$c_samples" "$c_depth"; do
     [[ "$v" =~ ^[0-9]+$ ]] || die "cannot read the book's camera settings (got '$v')"
 done
-quads_args=(--width "$q_width" --samples "$q_samples" --depth "$q_depth")
+quads_args=(--width "$q_width" --samples "$q_samples" --depth "$q_depth" --roulette no)
 cornell_args=(--width "$c_width" --samples "$c_samples" --depth "$c_depth")
 
 # `seconds COMMAND...`: runs it (output discarded) and prints its wall time in seconds.
@@ -157,6 +158,6 @@ echo "$cpu, $cores cores; the book at $commit ($cxx $cxxflags, one thread), hitk
 echo
 echo "| scene | book, 1 thread | hitkit, \`--threads 1\` | hitkit/book | hitkit, $cores threads | hitkit/book |"
 echo "|---|---:|---:|---:|---:|---:|"
-row "quads, ${q_width}x${q_width}, $q_samples spp, depth $q_depth" quads quads
+row "quads, ${q_width}x${q_width}, $q_samples spp, depth $q_depth, no roulette" quads quads
 row "Cornell like for like (the book's final scene, no roulette), ${c_width}x${c_width}, $c_samples spp, depth $c_depth" cornell cornell
 row "Cornell, hitkit's own (two boxes, roulette) against the book's final scene: not like for like" own cornell
