@@ -106,15 +106,34 @@ impl Quick {
 }
 
 /// What [`Plane::crossing`] found: a crossing clearly inside a shape that fills its
-/// rectangle (a hit, with no region computed), or the crossing and its region, for the
-/// shape to decide ([`Interior::meets`](crate::Interior::meets)).
+/// rectangle (a hit, with no region computed), one the quick test left undecided (for
+/// [`Plane::settle_pending`], out of line), or a direction to rescale.
 pub(crate) enum Crossing {
     Inside(PlaneHit),
-    Region(PlaneHit, CrossingRegion),
+    Pending(Pending),
     /// A direction of extreme length (or a ray that cannot be traced): to be decided again
     /// along the same ray with the direction scaled to an ordinary length
     /// ([`Ray::rescaled`]), where no bound below over- or underflows.
     Rescale,
+}
+
+/// A crossing the quick clear decision left undecided, with what [`Plane::crossing`]
+/// computed for it: `q - o`, the point `p`, `c = |n.d|` and `d1 = |d|_1`.
+#[derive(Clone, Copy)]
+pub(crate) struct Pending {
+    hit: PlaneHit,
+    q_minus_o: DVec3,
+    p: DVec3,
+    c: f64,
+    d1: f64,
+}
+
+/// What [`Plane::settle_pending`] decided: a hit clearly inside a filled shape, or the
+/// crossing and its region, for the shape to decide
+/// ([`Interior::meets`](crate::Interior::meets)).
+pub(crate) enum Decided {
+    Inside(PlaneHit),
+    Region(PlaneHit, CrossingRegion),
 }
 
 /// A decision [`Plane::crossing`] reaches without the reach's division.
@@ -427,15 +446,13 @@ impl Plane {
         Some(hit)
     }
 
-    /// [`Plane::intersect`] and [`Plane::crossing_region`] together, sharing `q - o`, the
-    /// point `p` and `n.d`: what a quad computes for every plane it meets. Crossings that
-    /// lie past `ray_t.max` by more than three times their reach (so that no decision in
-    /// `Quad::hit` can bring them back into range) are rejected before the region's
-    /// coordinates and widths are computed. With a `window` (the rectangle of
-    /// `(alpha, beta)` holding the shape, and whether the shape fills it: see
-    /// [`Interior::coordinate_bounds`](crate::Interior::coordinate_bounds)), crossings
-    /// clearly outside it are rejected, and crossings clearly inside a filled one come back
-    /// as [`Crossing::Inside`], both before the reach's division.
+    /// [`Plane::intersect`] and the first of [`Plane::crossing_region`]'s work, sharing
+    /// `q - o`, the point `p` and `n.d`: what a quad computes for every plane it meets.
+    /// With a `window` (the rectangle of `(alpha, beta)` holding the shape, and whether the
+    /// shape fills it: see [`Interior::coordinate_bounds`](crate::Interior::coordinate_bounds)),
+    /// crossings the quick test finds clearly outside it are rejected, and crossings clearly
+    /// inside a filled one come back as [`Crossing::Inside`]; the rest come back
+    /// [pending](Plane::settle_pending), with what was computed for them.
     #[inline(always)]
     pub(crate) fn crossing(
         &self,
@@ -464,17 +481,45 @@ impl Plane {
         let hit = PlaneHit { t, alpha, beta };
         // Most crossings a render tests are clearly outside the shape or inside it: decided
         // by bounds that need no more than `m` (see `Quick`), as the exact decision would.
+        let c = denom.abs();
         if let Some((window, filled)) = window {
-            let c = denom.abs();
             match self.clearly_quick(q_minus_o, &hit, c, d1, ray_t.min, window) {
                 Some(Clearly::Outside) => return None,
                 Some(Clearly::Inside) if filled => return Some(Crossing::Inside(hit)),
                 _ => {}
             }
         }
-        let parts = self.parts(t, q_minus_o, p, denom.abs(), d1);
-        // Clearly outside first: most crossings a render tests are, and clause 5's test
-        // (`beyond`) would turn none of them into a hit.
+        Some(Crossing::Pending(Pending {
+            hit,
+            q_minus_o,
+            p,
+            c,
+            d1,
+        }))
+    }
+
+    /// The rest of [`Plane::crossing`], for the few crossings its quick test leaves
+    /// undecided: the exact error terms, the clear decision by them, clause 5's test, and
+    /// the region. Out of line, so that the common path stays small where it inlines.
+    #[inline(always)]
+    pub(crate) fn settle_pending(
+        &self,
+        ray: &Ray,
+        ray_t: Interval,
+        window: Option<([DVec2; 2], bool)>,
+        pending: Pending,
+    ) -> Option<Decided> {
+        let Pending {
+            hit,
+            q_minus_o,
+            p,
+            c,
+            d1,
+        } = pending;
+        let t = hit.t;
+        let parts = self.parts(t, q_minus_o, p, c, d1);
+        // Clearly outside first: clause 5's test (`beyond`) would turn none of them into a
+        // hit.
         let clearly = window.and_then(|(window, filled)| {
             self.clearly(&parts, &hit, window)
                 .filter(|c| matches!(c, Clearly::Outside) || filled)
@@ -483,7 +528,7 @@ impl Plane {
             return None;
         }
         if matches!(clearly, Some(Clearly::Inside)) {
-            return Some(Crossing::Inside(hit));
+            return Some(Decided::Inside(hit));
         }
         // (Tried: this test, without the division, before the coordinates and the clear
         // decision, so that crossings behind the closest hit so far skip them; on the
@@ -492,10 +537,10 @@ impl Plane {
         if t - 3.0 * reach > ray_t.max {
             return None;
         }
-        if !((alpha.abs() < f64::INFINITY) & (beta.abs() < f64::INFINITY)) {
+        if !((hit.alpha.abs() < f64::INFINITY) & (hit.beta.abs() < f64::INFINITY)) {
             return None;
         }
-        Some(Crossing::Region(hit, self.finish(ray, &hit, &parts, reach)))
+        Some(Decided::Region(hit, self.finish(ray, &hit, &parts, reach)))
     }
 
     /// Whether the region [`Plane::crossing_region`] would compute for the crossing `hit`

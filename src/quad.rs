@@ -5,7 +5,7 @@ use glam::{DVec2, DVec3};
 
 use crate::light::{Spherical, View, reaching, toward_middle};
 use crate::math::{direction_scale, gamma, unit_and_length};
-use crate::plane::Crossing;
+use crate::plane::{Crossing, Decided, Pending};
 use crate::{
     Aabb, Found, GeometryError, HitRecord, Hittable, Interior, Interval, MaterialId, Meets,
     Parallelogram, PdfHittable, Plane, PlaneHit, Polygon, Ray, SampleInterior, Sampling,
@@ -135,6 +135,15 @@ impl<S: Interior> Quad<S> {
         ray_t.contains(hit.t).then_some(hit)
     }
 
+    /// The rectangle of `(alpha, beta)` holding the shape, and whether the shape fills it:
+    /// what [`Plane::crossing`] decides clear crossings by.
+    #[inline(always)]
+    fn window(&self) -> Option<([DVec2; 2], bool)> {
+        self.shape
+            .coordinate_bounds()
+            .map(|bounds| (bounds, self.shape.fills_coordinate_bounds()))
+    }
+
     /// [`Quad::decide`] for a ray whose direction's length is extreme, along the same ray
     /// with the direction scaled (exactly) to an ordinary length; `None` for a ray that
     /// cannot be traced.
@@ -185,20 +194,26 @@ impl<S: Interior> Quad<S> {
     /// whole ray, and only then compared with `ray_t`.
     #[inline(always)]
     fn decide(&self, ray: &Ray, ray_t: Interval) -> Option<PlaneHit> {
+        match self.plane.crossing(ray, ray_t, self.window())? {
+            Crossing::Inside(hit) => self.settle(ray, ray_t, hit),
+            Crossing::Pending(pending) => self.decide_pending(ray, ray_t, pending),
+            Crossing::Rescale => self.decide_rescaled(ray, ray_t),
+        }
+    }
+
+    /// [`Quad::decide`] for a crossing the quick test left undecided: by the exact error
+    /// terms, then by the region ([`Interior::meets`]), then near an edge in double-double.
+    /// Out of line: few crossings come here, and the common path stays small.
+    #[inline(never)]
+    fn decide_pending(&self, ray: &Ray, ray_t: Interval, pending: Pending) -> Option<PlaneHit> {
         let plane = &self.plane;
         // Whatever the decision below, the reported t is at least t - 3 reach (the refined
-        // crossing's own reach is no larger than this one's): `crossing` rejects a t past
-        // ray_t.max by more (and crossings the shape's rectangle shows clearly outside it).
-        // A crossing clearly inside a shape that fills its rectangle is decided there, and
-        // `record` alone compares its t with ray_t.
-        let window = self
-            .shape
-            .coordinate_bounds()
-            .map(|bounds| (bounds, self.shape.fills_coordinate_bounds()));
-        let (mut hit, region) = match plane.crossing(ray, ray_t, window)? {
-            Crossing::Inside(hit) => return self.settle(ray, ray_t, hit),
-            Crossing::Region(hit, region) => (hit, region),
-            Crossing::Rescale => return self.decide_rescaled(ray, ray_t),
+        // crossing's own reach is no larger than this one's): `settle_pending` rejects a t
+        // past ray_t.max by more (and crossings the shape's rectangle shows clearly outside
+        // it). A crossing clearly inside a shape that fills its rectangle is decided there.
+        let (mut hit, region) = match plane.settle_pending(ray, ray_t, self.window(), pending)? {
+            Decided::Inside(hit) => return self.settle(ray, ray_t, hit),
+            Decided::Region(hit, region) => (hit, region),
         };
         match self.shape.meets(&region) {
             Meets::Inside => {}
