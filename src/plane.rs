@@ -500,7 +500,8 @@ impl Plane {
 
     /// The rest of [`Plane::crossing`], for the few crossings its quick test leaves
     /// undecided: the exact error terms, the clear decision by them, clause 5's test, and
-    /// the region. Out of line, so that the common path stays small where it inlines.
+    /// the region. Called from a quad's out-of-line path, so that the common path stays
+    /// small where it inlines.
     #[inline(always)]
     pub(crate) fn settle_pending(
         &self,
