@@ -225,25 +225,59 @@ impl Aabb {
 
     /// `t` moved into the box's [span](Aabb::ray_span) along the whole ray, or `None` when
     /// the ray misses the box: how shapes keep their hits consistent with their boxes.
-    ///
-    /// Most hits are well inside, and are settled without the slab test (three divisions):
-    /// where `t d` lies between `min - o` and `max - o` by more than `gamma(6)` of
-    /// `|t d| + |bound - o|` per axis, `t` is within every slab's computed span. (Each
-    /// distance `(bound - o) (1 / d)` is within `gamma(3)` of its own; the test's three
-    /// roundings, and the span's subnormal floor, fit in the rest.) Distances from the
-    /// origin, not the point's coordinates: a flat box (an axis-aligned quad's) is thinner
-    /// than the rounding of a coordinate far from the origin, not than that of its distance.
     #[inline(always)]
     pub(crate) fn clamp_hit(&self, ray: &Ray, t: f64) -> Option<f64> {
+        if self.clearly_holds(ray, t) {
+            return Some(t);
+        }
+        self.clamp_by_span(ray, t)
+    }
+
+    /// Whether `t` is within the box's span for certain, without the slab test (three
+    /// divisions), as it is for most hits: where `t d` lies between `min - o` and `max - o`
+    /// by more than `gamma(6)` of `|t d| + |bound - o|` per axis, `t` is within every
+    /// slab's computed span. (Each distance `(bound - o) (1 / d)` is within `gamma(3)` of
+    /// its own; the test's three roundings, and the span's floor for underflow, fit in the
+    /// rest.) Distances from the origin, not the point's coordinates: a flat box (an
+    /// axis-aligned quad's) is thinner than the rounding of a coordinate far from the
+    /// origin, not than that of its distance.
+    #[inline(always)]
+    fn clearly_holds(&self, ray: &Ray, t: f64) -> bool {
         let step = t * ray.direction;
         let (lo, hi) = (self.min - ray.origin, self.max - ray.origin);
         let margin = gamma(6) * (step.abs() + lo.abs().max(hi.abs())) + f64::MIN_POSITIVE;
         // (A NaN `t` fails the comparisons.)
-        let inside = (lo + margin).cmple(step).all() && step.cmple(hi - margin).all();
-        if inside {
+        (lo + margin).cmple(step).all() && step.cmple(hi - margin).all()
+    }
+
+    /// [`Aabb::clamp_hit`], for a caller that tests many boxes on one ray: where the fast
+    /// path leaves `t` in doubt (always, on an axis along which the box is flat, as an
+    /// axis-aligned face's is), the slab test runs on `box_ray`, made once for the ray
+    /// (`BoxRay::new`, which the caller keeps in `box_ray` from its first use), rather than
+    /// on a new one: the same arithmetic as [`Aabb::ray_span`], without its three divisions.
+    #[inline(always)]
+    pub(crate) fn clamp_hit_on(
+        &self,
+        ray: &Ray,
+        box_ray: &mut Option<BoxRay>,
+        t: f64,
+    ) -> Option<f64> {
+        if self.clearly_holds(ray, t) {
             return Some(t);
         }
-        self.clamp_by_span(ray, t)
+        // `ray_span` takes this ray's own direction (scale 1) for a finite origin and an
+        // ordinary direction, and otherwise its own path.
+        if !(ray.origin.is_finite() && ordinary(ray.direction)) {
+            return self.clamp_by_span(ray, t);
+        }
+        let box_ray = box_ray.get_or_insert_with(|| BoxRay::with_scale(ray, 1.0));
+        let ([t0], [t1]) = slab_spans(
+            lanes(self.min),
+            lanes(self.max),
+            box_ray,
+            Interval::UNIVERSE,
+        );
+        (t0 < f64::INFINITY).then(|| t.clamp(t0, t1.max(t0)))
     }
 
     /// [`Aabb::clamp_hit`] by the slab test.

@@ -120,7 +120,7 @@ mod impl_serde;
 pub use glam;
 
 pub use aabb::Aabb;
-pub use bvh::{Bvh, TreeCost};
+pub use bvh::{Bvh, TreeCost, Visits};
 pub use cuboid::Cuboid;
 pub use error::GeometryError;
 pub use hittable::{Hittable, PdfHittable};

@@ -244,15 +244,29 @@ impl HitRecord {
         let offset = self.normal.abs().dot(self.point_error).min(f64::MAX);
         let mut origin = self.point + offset * toward;
         // One more float away along every axis the normal has a component on, so that the
-        // origin leaves the surface even where the error bound is zero. (Tried: a
-        // branch-free step of `2^-52 |x|` per axis, selected by the normal's signs; on the
-        // quads scene, five runs in alternation, 2.874 s against 2.859 s: within noise.)
+        // origin leaves the surface even where the error bound is zero; past the
+        // subnormals, where that step from zero (a wall at `x = 0`) would land: every
+        // distance computed from such an origin would be slow, and with the CPU's
+        // denormals-are-zero mode on it would be read as zero, back on the surface.
+        // (Tried: a branch-free step of `2^-52 |x|` per axis, selected by the normal's
+        // signs; within noise.)
         for axis in 0..3 {
-            if toward[axis] > 0.0 {
-                origin[axis] = origin[axis].next_up();
+            let x = origin[axis];
+            let (stepped, past) = if toward[axis] > 0.0 {
+                (x.next_up(), f64::MIN_POSITIVE)
             } else if toward[axis] < 0.0 {
-                origin[axis] = origin[axis].next_down();
-            }
+                (x.next_down(), -f64::MIN_POSITIVE)
+            } else {
+                continue;
+            };
+            origin[axis] = if stepped.abs() >= f64::MIN_POSITIVE {
+                stepped
+            } else if stepped != 0.0 && (stepped > 0.0) == (past > 0.0) {
+                past
+            } else {
+                // From a subnormal on the other side of zero: zero is past it.
+                0.0
+            };
         }
         // Near the end of the range, the origin stays finite (at the end of it).
         Ray::new(

@@ -404,6 +404,78 @@ fn rays_spawned_from_mesh_hits_leave_the_surface() {
     assert!(spawned > 3000);
 }
 
+/// A room of walls on the coordinate planes, `x = 0` among them (as the book's Cornell box
+/// is built): a ray spawned from a wall, as a bounce or as a shadow ray toward a point in
+/// the room, never finds the wall it leaves, nor anything else (the room is convex from
+/// inside). From a wall at zero, the last step of `spawn_ray` leaves the origin a hair
+/// off it; the crossing's depths are then all about that hair, and a `t` computed from
+/// them rounds to zero: its error bound must say so (it said zero once, and shadow rays
+/// from the wall at `x = 0` found it at `t = -0`).
+#[test]
+fn rays_spawned_from_walls_at_zero_leave_them() {
+    let mut rng = SplitMix::new(35);
+    let mut spawned = 0;
+    for size in [1e-3, 1.0, 555.0, 1e6] {
+        let corner = |i: u32| {
+            DVec3::new(
+                f64::from(i & 1),
+                f64::from((i >> 1) & 1),
+                f64::from((i >> 2) & 1),
+            ) * size
+        };
+        let vertices: Vec<DVec3> = (0..8).map(corner).collect();
+        let faces: Vec<[u32; 3]> = [
+            [0, 1, 3, 2],
+            [4, 6, 7, 5],
+            [0, 4, 5, 1],
+            [2, 3, 7, 6],
+            [0, 2, 6, 4],
+            [1, 5, 7, 3],
+        ]
+        .iter()
+        .flat_map(|&[a, b, c, d]| [[a, b, c], [a, c, d]])
+        .collect();
+        let room = TriangleMesh::new(&vertices, &faces).unwrap();
+        for _ in 0..500 {
+            let inside = |rng: &mut SplitMix| (0.05 + 0.9 * rng.vec3()) * size;
+            let Some(hit) = room.hit(&Ray::new(inside(&mut rng), rng.direction()), FORWARD) else {
+                panic!("leaked");
+            };
+            let into = if hit.normal.dot(DVec3::splat(size / 2.0) - hit.point) > 0.0 {
+                hit.normal
+            } else {
+                -hit.normal
+            };
+            let bounce = hit.spawn_ray(into + rng.direction());
+            if bounce.direction.dot(into) > 0.0 {
+                let again = room.hit(&bounce, FORWARD);
+                assert!(
+                    again.is_some_and(|h| h.primitive != hit.primitive),
+                    "re-hit its wall"
+                );
+            }
+            let shadow = hit.spawn_ray(inside(&mut rng) - hit.point);
+            assert!(
+                !room.occluded(&shadow, Interval::new(0.0, 1.0)),
+                "blocked by its wall"
+            );
+            spawned += 1;
+        }
+    }
+    assert_eq!(spawned, 2000);
+    // The same, from an origin given a subnormal coordinate by hand.
+    let wall = TriangleMesh::new(&[DVec3::ZERO, DVec3::Y, DVec3::Z], &[[0, 1, 2]]).unwrap();
+    for x in [5e-324, 1e-320, 2.2e-308] {
+        let ray = Ray::new(DVec3::new(x, 0.2, 0.3), DVec3::new(1.0, 0.1, 0.2));
+        assert!(wall.hit(&ray, FORWARD).is_none() && !wall.occluded(&ray, FORWARD));
+    }
+    // While a crossing that far from the origin is too near to count (within its error
+    // bound of it), one a little farther still counts: the bound's underflow term is a few
+    // times the smallest normal number.
+    let toward = Ray::new(DVec3::new(1e-300, 0.2, 0.3), DVec3::new(-1.0, 0.1, 0.2));
+    assert!(wall.hit(&toward, FORWARD).is_some());
+}
+
 /// As a light: the density of a direction is the density of the points that send it,
 /// summed over every face it crosses (a closed mesh: twice). Whatever a density is, the
 /// mean of `1 / pdf` over its own samples is the measure of where it samples: here the

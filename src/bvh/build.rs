@@ -14,7 +14,7 @@ use crate::{Aabb, Hittable};
 
 /// Centroid bins per axis.
 const BINS: usize = 16;
-/// A node with more objects than this is always split.
+/// A node with more objects than this is always split (for a [`Bvh`]).
 const MAX_LEAF: usize = 8;
 /// Cost of visiting a node, relative to testing one object.
 const TRAVERSAL_COST: f64 = 1.0;
@@ -127,12 +127,15 @@ pub(super) fn build<T: Hittable>(mut objects: Vec<T>, parallel: bool) -> Bvh<T> 
 pub(crate) struct Shape {
     /// Cost of visiting a node, relative to testing one object.
     pub(crate) traversal_cost: f64,
+    /// A node with more objects than this is always split.
+    pub(crate) max_leaf: usize,
 }
 
 impl Shape {
     /// For a [`Bvh`] of arbitrary objects: a node costs about one object test.
     pub(crate) const OBJECTS: Self = Self {
         traversal_cost: TRAVERSAL_COST,
+        max_leaf: MAX_LEAF,
     };
 }
 
@@ -480,14 +483,14 @@ impl Builder {
             None
         };
         let (mid, sides) = match split {
-            Some(split) if split.cost >= n as f64 && n <= MAX_LEAF => return leaf,
+            Some(split) if split.cost >= n as f64 && n <= self.shape.max_leaf => return leaf,
             Some(split) => {
                 let binning = Binning::new(&extent.centroids, split.axis, n);
                 let lane = Vec4::AXES[split.axis];
                 let mid = partition(prims, |p| binning.bin(p.centroid2().dot(lane)) <= split.bin);
                 (mid, Some(split.sides))
             }
-            None if n <= MAX_LEAF => return leaf,
+            None if n <= self.shape.max_leaf => return leaf,
             None => (0, None),
         };
         // No SAH split (all centroids coincide, or deep in the tree), or one that leaves a
@@ -682,14 +685,22 @@ fn permute<T>(objects: &mut [T], order: &[u32]) {
 /// below, which always does: the rounded difference is within half an `f64` ulp of the
 /// exact one, and an `f32` step is wider than that at any magnitude, so the exact sum is
 /// below `x`, and rounding it to `f64` cannot pass `x`. Branch-free (which of the two it
-/// is, is a coin toss where the origin's bits are not round).
+/// is, is a coin toss where the origin's bits are not round). Never a subnormal: one is
+/// taken down to zero or to the largest negative normal, so that no node holds a bound
+/// that traversal would compute with slowly, or read as zero (moved the wrong way) with
+/// the CPU's denormals-are-zero mode on.
 #[inline]
 pub(super) fn below(x: f64, origin: f64) -> f32 {
     let f = round_down(x - origin);
-    if origin + f64::from(f) <= x {
+    let f = if origin + f64::from(f) <= x {
         f
     } else {
         step_down(f)
+    };
+    if f.is_subnormal() {
+        if f > 0.0 { 0.0 } else { -f32::MIN_POSITIVE }
+    } else {
+        f
     }
 }
 
@@ -760,20 +771,30 @@ mod tests {
         /// two `f32` steps from the difference rounded outward.
         #[test]
         fn offsets_hold_the_coordinate_and_are_tight(
-            x in prop_oneof![any::<f64>(), -1e13f64..1e13, -1.0f64..1.0],
-            near in prop_oneof![Just(0.0), -1e-3f64..1e-3, -1e6f64..1e6],
+            x in prop_oneof![any::<f64>(), -1e13f64..1e13, -1.0f64..1.0, -1e-37f64..1e-37],
+            near in prop_oneof![Just(0.0), -1e-3f64..1e-3, -1e6f64..1e6, -1e-38f64..1e-38],
         ) {
             prop_assume!(x.is_finite());
             let origin = x + near;
             prop_assume!(origin.is_finite());
             let (lo, hi) = (super::below(x, origin), super::above(x, origin));
+            prop_assert!(!lo.is_subnormal() && !hi.is_subnormal());
             if lo.is_finite() {
                 prop_assert!(origin + f64::from(lo) <= x);
-                prop_assert!(lo >= super::step_down(super::step_down(round_down(x - origin))));
+                // (Or a subnormal taken down to zero or to the largest negative normal.)
+                prop_assert!(
+                    lo >= super::step_down(super::step_down(round_down(x - origin)))
+                        || lo == 0.0
+                        || lo == -f32::MIN_POSITIVE
+                );
             }
             if hi.is_finite() {
                 prop_assert!(origin + f64::from(hi) >= x);
-                prop_assert!(-hi >= super::step_down(super::step_down(round_down(origin - x))));
+                prop_assert!(
+                    -hi >= super::step_down(super::step_down(round_down(origin - x)))
+                        || hi == 0.0
+                        || hi == f32::MIN_POSITIVE
+                );
             }
         }
 

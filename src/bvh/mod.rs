@@ -7,6 +7,7 @@ mod traverse;
 mod update;
 
 pub(crate) use build::Shape;
+pub(crate) use traverse::Tally;
 
 use alloc::vec::Vec;
 
@@ -92,6 +93,16 @@ pub struct Bvh<T> {
     built_cost: f64,
     /// What inserting and removing objects needs; empty until the first insert or remove.
     links: update::Links,
+}
+
+/// What one query cost in a tree, counted by [`Bvh::hit_visits`],
+/// [`Bvh::occluded_visits`] and their [`TriangleMesh`](crate::TriangleMesh) namesakes.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Visits {
+    /// Nodes whose children's boxes were tested (a node holds up to four children).
+    pub nodes: u32,
+    /// Objects (or a mesh's faces) tested.
+    pub tests: u32,
 }
 
 /// A tree's cost by the surface area heuristic, when it was built and now, after updates
@@ -231,12 +242,64 @@ impl<T: Hittable> Bvh<T> {
     /// slice.
     #[must_use]
     pub fn hit_with_index(&self, ray: &Ray, ray_t: Interval) -> Option<(usize, HitRecord)> {
-        // Crossings by `find`; the record of the closest alone.
+        let (index, position, found) = self.closest(ray, ray_t, &mut ())?;
+        match self.objects[position].record(ray, ray_t, &found) {
+            Some(hit) => Some((index, hit)),
+            // A record that cannot be made (past f64's range) is no hit: ask again, as the
+            // objects' own `hit` would answer.
+            None => self.hit_by_records(ray, ray_t),
+        }
+    }
+
+    /// What [`Bvh::hit`](Hittable::hit) costs on `ray`: the nodes whose children's boxes it
+    /// tests, and the objects it asks for a crossing. For looking into a tree's quality
+    /// on the rays an application traces (a tree that visits many nodes per ray for few
+    /// tests, or tests many objects, is worth [`Bvh::optimize`] or another build).
+    ///
+    /// ```
+    /// use hitkit::glam::DVec3;
+    /// use hitkit::{Bvh, Interval, Quad, Ray};
+    ///
+    /// let tiles: Vec<Quad> = (0..100)
+    ///     .map(|i| Quad::new(DVec3::new(i as f64, 0.0, 0.0), DVec3::X, DVec3::Y).unwrap())
+    ///     .collect();
+    /// let bvh = Bvh::new(tiles);
+    /// let down = Ray::new(DVec3::new(41.5, 0.5, 1.0), DVec3::NEG_Z);
+    /// let cost = bvh.hit_visits(&down, Interval::FORWARD);
+    /// assert!(cost.nodes >= 1 && cost.tests >= 1 && cost.tests < 100);
+    /// ```
+    #[must_use]
+    pub fn hit_visits(&self, ray: &Ray, ray_t: Interval) -> Visits {
+        let mut visits = Visits::default();
+        self.closest(ray, ray_t, &mut visits);
+        visits
+    }
+
+    /// What [`Bvh::occluded`](Hittable::occluded) costs on `ray`, as
+    /// [`Bvh::hit_visits`] counts.
+    #[must_use]
+    pub fn occluded_visits(&self, ray: &Ray, ray_t: Interval) -> Visits {
+        let mut visits = Visits::default();
+        self.any(ray, ray_t, &mut visits);
+        visits
+    }
+
+    /// The closest crossing by the objects' `find`: the object's number, its position in
+    /// `self.objects`, and the crossing.
+    #[inline]
+    fn closest(
+        &self,
+        ray: &Ray,
+        ray_t: Interval,
+        tally: &mut impl Tally,
+    ) -> Option<(usize, usize, Found)> {
         let mut closest: Option<(usize, usize, Found)> = None;
         let mut t_max = ray_t.max;
-        self.walk(ray, ray_t, &mut t_max, |objects, first, t_max| {
+        let mut tests = 0;
+        self.walk(ray, ray_t, &mut t_max, tally, |objects, first, t_max| {
             for (k, (object, &index)) in objects.iter().zip(&self.tree.order[first..]).enumerate() {
                 let index = index as usize;
+                tests += 1;
                 if let Some(found) = object.find(ray, Interval::new(ray_t.min, *t_max))
                     && (found.t < *t_max || closest.is_none_or(|(best, _, _)| index < best))
                 {
@@ -246,13 +309,25 @@ impl<T: Hittable> Bvh<T> {
             }
             false
         });
-        let (index, position, found) = closest?;
-        match self.objects[position].record(ray, ray_t, &found) {
-            Some(hit) => Some((index, hit)),
-            // A record that cannot be made (past f64's range) is no hit: ask again, as the
-            // objects' own `hit` would answer.
-            None => self.hit_by_records(ray, ray_t),
-        }
+        (0..tests).for_each(|_| tally.test());
+        closest
+    }
+
+    /// Whether any object occludes `ray` within `ray_t`.
+    #[inline]
+    fn any(&self, ray: &Ray, ray_t: Interval, tally: &mut impl Tally) -> bool {
+        let mut found = false;
+        let mut t_max = ray_t.max;
+        let mut tests = 0;
+        self.walk(ray, ray_t, &mut t_max, tally, |objects, _, _| {
+            found = objects.iter().any(|o| {
+                tests += 1;
+                o.occluded(ray, ray_t)
+            });
+            found
+        });
+        (0..tests).for_each(|_| tally.test());
+        found
     }
 
     /// [`Bvh::hit_with_index`] by every object's [`Hittable::hit`].
@@ -260,7 +335,7 @@ impl<T: Hittable> Bvh<T> {
     fn hit_by_records(&self, ray: &Ray, ray_t: Interval) -> Option<(usize, HitRecord)> {
         let mut closest: Option<(usize, HitRecord)> = None;
         let mut t_max = ray_t.max;
-        self.walk(ray, ray_t, &mut t_max, |objects, first, t_max| {
+        self.walk(ray, ray_t, &mut t_max, &mut (), |objects, first, t_max| {
             for (object, &index) in objects.iter().zip(&self.tree.order[first..]) {
                 let index = index as usize;
                 if let Some(hit) = object.hit(ray, Interval::new(ray_t.min, *t_max))
@@ -307,12 +382,6 @@ impl<T: Hittable> Hittable for Bvh<T> {
 
     /// Stops at the first object found that occludes, in any order.
     fn occluded(&self, ray: &Ray, ray_t: Interval) -> bool {
-        let mut found = false;
-        let mut t_max = ray_t.max;
-        self.walk(ray, ray_t, &mut t_max, |objects, _, _| {
-            found = objects.iter().any(|o| o.occluded(ray, ray_t));
-            found
-        });
-        found
+        self.any(ray, ray_t, &mut ())
     }
 }

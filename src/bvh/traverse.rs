@@ -4,7 +4,7 @@
 //! tree allow it and in `f64` otherwise ([`entries`]); both are conservative against the
 //! crate's one box test, so that a node never misses a ray its shapes' boxes take.
 
-use super::{Bvh, MAX_DEPTH, Node, Tree, WIDTH};
+use super::{Bvh, MAX_DEPTH, Node, Tree, Visits, WIDTH};
 use glam::{DVec3, Vec3, Vec4};
 
 use crate::aabb::{BoxRay, slab_spans};
@@ -68,8 +68,10 @@ struct Lanes {
     lo: f32,
 }
 
-/// Stack sizes: for trees of depth up to `SHALLOW / (WIDTH - 1)`, and for every tree the
-/// build makes (`MAX_DEPTH` levels at most).
+/// Stack sizes: for trees of depth up to `SMALL / (WIDTH - 1)` (up to 256 leaves), up to
+/// `SHALLOW / (WIDTH - 1)`, and for every tree the build makes (`MAX_DEPTH` levels at
+/// most).
+const SMALL: usize = 12;
 const SHALLOW: usize = 60;
 const DEEP: usize = (WIDTH - 1) * MAX_DEPTH;
 
@@ -148,6 +150,12 @@ impl Lanes {
             inv: [Vec4::ZERO; 3],
             lo: down(DVec3::splat(ray_t.min.max(-f64::from(f32::MAX)))).x,
         };
+        // A start at zero or after is kept at zero or after: rounded down it would be a
+        // step below zero, which every box the ray starts in would carry into its entry
+        // and the padding of it, and the step's magnitude would be all the entry has.
+        if ray_t.min >= 0.0 {
+            lanes.lo = lanes.lo.max(0.0);
+        }
         for axis in 0..3 {
             // Toward the bound: a near distance no larger than the f64 test's, a far one
             // no smaller.
@@ -191,17 +199,46 @@ impl Lanes {
 /// by more than half an `f32` ulp before rounding to nearest, branch-free.
 #[inline(always)]
 fn up(x: DVec3) -> Vec3 {
-    (x + x.abs() * f64::from(f32::EPSILON) + DVec3::splat(TINY)).as_vec3()
+    (x + x.abs() * f64::from(f32::EPSILON) + DVec3::splat(STEP)).as_vec3()
 }
 
 /// As [`up`], at or below.
 #[inline(always)]
 fn down(x: DVec3) -> Vec3 {
-    (x - x.abs() * f64::from(f32::EPSILON) - DVec3::splat(TINY)).as_vec3()
+    (x - x.abs() * f64::from(f32::EPSILON) - DVec3::splat(STEP)).as_vec3()
 }
 
-/// The smallest subnormal `f32`: more than half an ulp for the subnormals.
-const TINY: f64 = 1.401_298_464_324_817e-45;
+/// The absolute part of [`up`]'s and [`down`]'s step: more than half an ulp of the
+/// subnormals, and a normal number, so that a value near zero steps past the subnormals
+/// rather than into them (where every lane computed from it would be slow, and read as
+/// zero with the CPU's denormals-are-zero mode on). Stepping toward zero from a negative
+/// value can still end among them; read as zero, such a value is still on the right side.
+const STEP: f64 = f32::MIN_POSITIVE as f64;
+
+/// What a query counts: the nodes whose children's boxes it tests, and the objects it
+/// tests. `()` counts nothing (and costs nothing); [`Visits`] counts.
+pub(crate) trait Tally {
+    fn node(&mut self);
+    fn test(&mut self);
+}
+
+impl Tally for () {
+    #[inline(always)]
+    fn node(&mut self) {}
+    #[inline(always)]
+    fn test(&mut self) {}
+}
+
+impl Tally for Visits {
+    #[inline(always)]
+    fn node(&mut self) {
+        self.nodes += 1;
+    }
+    #[inline(always)]
+    fn test(&mut self) {
+        self.tests += 1;
+    }
+}
 
 impl<T: Hittable> Bvh<T> {
     /// Offers `visit` the unbounded objects, then every leaf whose box the ray enters
@@ -214,12 +251,14 @@ impl<T: Hittable> Bvh<T> {
         ray: &Ray,
         ray_t: Interval,
         t_max: &mut f64,
+        tally: &mut impl Tally,
         mut visit: impl FnMut(&[T], usize, &mut f64) -> bool,
     ) {
         let objects = &self.objects;
-        self.tree.walk(ray, ray_t, t_max, |first, count, t_max| {
-            visit(&objects[first..first + count], first, t_max)
-        });
+        self.tree
+            .walk(ray, ray_t, t_max, tally, |first, count, t_max| {
+                visit(&objects[first..first + count], first, t_max)
+            });
     }
 }
 
@@ -227,12 +266,13 @@ impl Tree {
     /// Offers `visit` the unbounded objects, then every leaf whose box the ray enters
     /// within `[ray_t.min, *t_max]`, nearer child first, as a run of positions in the
     /// tree's order (first, count); `visit` lowers `t_max` as it finds hits (later boxes
-    /// are culled against it) and returns `true` to stop.
+    /// are culled against it) and returns `true` to stop. `tally` counts the nodes.
     pub(crate) fn walk(
         &self,
         ray: &Ray,
         ray_t: Interval,
         t_max: &mut f64,
+        tally: &mut impl Tally,
         mut visit: impl FnMut(usize, usize, &mut f64) -> bool,
     ) {
         if !ray.is_valid() {
@@ -251,22 +291,25 @@ impl Tree {
         // as it is lowered.
         let box_ray = BoxRay::new(ray);
         let scaled_t = box_ray.scaled_range(ray_t);
-        // The stack is cleared on every walk: a small one for trees shallow enough (most).
-        let shallow = (WIDTH - 1) * self.depth <= SHALLOW;
+        // The stack is cleared on every walk, which costs as much as a node visit or two
+        // at the deepest size: one as small as the tree allows, for the rays the lanes
+        // take (all but rays past their limits, which take the deepest).
+        let pending = (WIDTH - 1) * self.depth;
         match Lanes::new(self, ray, &box_ray, scaled_t) {
-            Some(lanes) if shallow => self.descend::<SHALLOW>(t_max, visit, &lanes, &box_ray),
-            Some(lanes) => self.descend::<DEEP>(t_max, visit, &lanes, &box_ray),
+            Some(lanes) if pending <= SMALL => {
+                self.descend::<SMALL>(t_max, tally, visit, &lanes, &box_ray);
+            }
+            Some(lanes) if pending <= SHALLOW => {
+                self.descend::<SHALLOW>(t_max, tally, visit, &lanes, &box_ray);
+            }
+            Some(lanes) => self.descend::<DEEP>(t_max, tally, visit, &lanes, &box_ray),
             None => {
                 let reference = Reference {
                     origin: self.origin.to_array(),
                     ray: box_ray,
                     min: scaled_t.min,
                 };
-                if shallow {
-                    self.descend::<SHALLOW>(t_max, visit, &reference, &box_ray);
-                } else {
-                    self.descend::<DEEP>(t_max, visit, &reference, &box_ray);
-                }
+                self.descend::<DEEP>(t_max, tally, visit, &reference, &box_ray);
             }
         }
     }
@@ -278,6 +321,7 @@ impl Tree {
     fn descend<const STACK: usize>(
         &self,
         t_max: &mut f64,
+        tally: &mut impl Tally,
         mut visit: impl FnMut(usize, usize, &mut f64) -> bool,
         test: &impl Entries,
         box_ray: &BoxRay,
@@ -292,6 +336,7 @@ impl Tree {
         loop {
             if count == 0 {
                 let node = &self.nodes[index as usize];
+                tally.node();
                 let t = test.entries(node, limit);
                 // The children entered, nearest first (an insertion sort of at most four).
                 let mut entered = [(0.0f32, 0u32, 0u32); WIDTH];
@@ -440,9 +485,29 @@ mod tests {
         }
     }
 
-    /// The stated constant is the smallest subnormal `f32`.
+    /// A ray from a box's inside starting at zero, as every bounce and shadow ray does,
+    /// meets no subnormal number in the lanes: its start, and its entries into the boxes
+    /// it starts in, are normal numbers or zero.
     #[test]
-    fn tiny_is_the_smallest_subnormal() {
-        assert_eq!(super::TINY, f64::from(f32::from_bits(1)));
+    fn lanes_of_a_ray_from_inside_hold_no_subnormal() {
+        let boxes = [
+            Aabb::new(DVec3::ZERO, DVec3::ONE),
+            Aabb::new(DVec3::splat(2.0), DVec3::splat(3.0)),
+        ];
+        let (tree, _) = Tree::build(boxes.len(), |i| boxes[i], Shape::OBJECTS, false);
+        for origin in [DVec3::splat(0.5), tree.origin, DVec3::new(0.0, 0.5, 0.5)] {
+            let ray = Ray::new(origin, DVec3::new(0.3, -0.2, 1.0));
+            let box_ray = BoxRay::new(&ray);
+            let lanes = Lanes::new(&tree, &ray, &box_ray, Interval::FORWARD).unwrap();
+            let normal_or_zero = |x: f32| x == 0.0 || x.is_normal() || x.is_infinite();
+            assert!(normal_or_zero(lanes.lo), "{}", lanes.lo);
+            for v in lanes.origin_near.iter().chain(&lanes.origin_far) {
+                assert!(v.to_array().into_iter().all(normal_or_zero), "{v}");
+            }
+            for node in &tree.nodes {
+                let entries = lanes.entries(node, f64::INFINITY);
+                assert!(entries.into_iter().all(normal_or_zero), "{entries:?}");
+            }
+        }
     }
 }

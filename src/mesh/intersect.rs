@@ -26,15 +26,26 @@ pub(super) struct Sheared {
     scale: f64,
 }
 
-/// A face the ray crosses: `t`, a bound on its error, and the barycentric weights of its
-/// three corners.
+/// A face the ray crosses: `t`, a bound on its error, and what gives the barycentric
+/// weights of its three corners.
 #[derive(Clone, Copy)]
 pub(super) struct Crossing {
     pub(super) t: f64,
     /// The exact crossing lies within `t ± t_error` ([`t_error`]); infinite where rounding
     /// leaves even its side of the origin unknown.
     pub(super) t_error: f64,
-    pub(super) barycentric: DVec3,
+    /// The edge functions, oriented (each at least zero), and their sum (positive).
+    edges: DVec3,
+    det: f64,
+}
+
+impl Crossing {
+    /// The barycentric weights of the face's three corners: divided out only for the
+    /// crossing a query keeps (a shadow ray needs none).
+    #[inline]
+    pub(super) fn barycentric(&self) -> DVec3 {
+        self.edges / self.det
+    }
 }
 
 /// Bounds on an edge function's error. Each sheared coordinate `x = a_x + s_x a_z` (with
@@ -163,10 +174,11 @@ impl Sheared {
         let (e0, e1, e2) = (orient(e0, s0), orient(e1, s1), orient(e2, s2));
         let det = e0 + e1 + e2;
         let t = (e0 * a0.z + e1 * a1.z + e2 * a2.z) * s.z / det;
-        let barycentric = DVec3::new(e0, e1, e2) / det;
-        if !(t.abs() < f64::INFINITY && barycentric.is_finite()) {
+        // (The weights `e_i / det` lie in [0, 1] where `det` is finite.)
+        if !(t.abs() < f64::INFINITY && det < f64::INFINITY) {
             return None;
         }
+        let edges = DVec3::new(e0, e1, e2);
         // The edge functions' error, from what enters each corner's sheared coordinates,
         // `X = |a_x| + |s_x a_z|` and `Y = |a_y| + |s_y a_z|`: each coordinate is within
         // `gamma(4)` of them of its exact value (the difference's rounding, `s`'s, the
@@ -192,21 +204,24 @@ impl Sheared {
                 + edge(corners[2], corners[0])
                 + edge(corners[0], corners[1]));
         let z = a0.z.abs().max(a1.z.abs()).max(a2.z.abs());
-        let t_error = t_error(t, det, edge_error, z * s.z.abs());
+        let t_error = t_error(t, det, edge_error, z * s.z.abs(), s.z.abs());
         if self.scale == 1.0 {
             return Some(Crossing {
                 t,
                 t_error,
-                barycentric,
+                edges,
+                det,
             });
         }
         // Back to the ray's own direction: exact, but for a `t` that under- or overflows
-        // (and then errs by at most the smallest subnormal).
+        // (and then errs by at most the smallest normal number, with underflow flushed to
+        // zero or not).
         let t = t * self.scale;
-        (t.abs() < f64::INFINITY).then(|| Crossing {
+        (t.abs() < f64::INFINITY).then_some(Crossing {
             t,
-            t_error: t_error * self.scale + f64::from_bits(1),
-            barycentric,
+            t_error: t_error * self.scale + f64::MIN_POSITIVE,
+            edges,
+            det,
         })
     }
 }
@@ -251,11 +266,24 @@ fn settle(ray: &Sheared, p: DVec3, q: DVec3) -> Option<f64> {
 /// of the bound itself (as pbrt-v4 triples its own, `Triangle::Intersect`). Infinite where
 /// the edge functions' error reaches their sum: then not even the side of the origin the
 /// crossing is on is known.
+///
+/// Underflow adds an absolute error to each result, of at most `eta`, the smallest normal
+/// number (which covers gradual underflow and a CPU flushing it to zero alike): to the
+/// depths (the corners' `z`, whose weights sum to `E`), the three products and two sums
+/// of the numerator, the product with `s_z` and the quotient, at most
+/// `eta (|s_z| + (5 |s_z| + 1) / E + 1)`, doubled as above (and divided by the margin,
+/// below `E`, rather than by `E`: one division for the whole bound); and `Z |s_z|` itself
+/// may have underflowed by `eta`. This is what keeps a ray from a wall at `x = 0`, whose
+/// depths are all about the smallest normal number, from finding the wall it leaves at a
+/// `t` of zero with no error.
 #[inline(always)]
-fn t_error(t: f64, det: f64, edge_error: f64, z_scaled: f64) -> f64 {
+fn t_error(t: f64, det: f64, edge_error: f64, z_scaled: f64, s_z: f64) -> f64 {
+    let eta = f64::MIN_POSITIVE;
     let margin = det - edge_error - gamma(2) * det;
     if margin > 0.0 {
-        2.0 * (2.0 * z_scaled * (edge_error + gamma(4) * det) / margin + gamma(3) * t.abs())
+        let over_margin =
+            2.0 * (z_scaled + eta) * (edge_error + gamma(4) * det) + eta * (5.0 * s_z + 1.0);
+        2.0 * (over_margin / margin + gamma(3) * t.abs() + eta * (s_z + 1.0))
     } else {
         f64::INFINITY
     }

@@ -42,10 +42,17 @@ impl PdfHittable for TriangleMesh {
         let (unit, length) = unit_and_length(direction);
         let mut sum = 0.0;
         let mut t_max = f64::INFINITY;
-        self.tree
-            .walk(&ray, Interval::FORWARD, &mut t_max, |first, count, _| {
+        let mut box_ray = None;
+        self.tree.walk(
+            &ray,
+            Interval::FORWARD,
+            &mut t_max,
+            &mut (),
+            |first, count, _| {
                 for position in first..first + count {
-                    if let Some(c) = self.cross(&sheared, &ray, Interval::FORWARD, position) {
+                    if let Some(c) =
+                        self.cross(&sheared, &mut box_ray, &ray, Interval::FORWARD, position)
+                    {
                         let [p0, p1, p2] = self.corners_at(position);
                         let (normal, _) = unit_and_length((p1 - p0).cross(p2 - p0));
                         let distance = c.t * length;
@@ -53,7 +60,8 @@ impl PdfHittable for TriangleMesh {
                     }
                 }
                 false
-            });
+            },
+        );
         if sum < f64::INFINITY { sum } else { 0.0 }
     }
 
@@ -115,7 +123,7 @@ impl PdfHittable for TriangleMesh {
         reaching(sample, |d| {
             let ray = Ray::new(origin, d);
             Sheared::new(&ray).is_some_and(|sheared| {
-                self.cross(&sheared, &ray, Interval::FORWARD, position)
+                self.cross(&sheared, &mut None, &ray, Interval::FORWARD, position)
                     .is_some()
             })
         })

@@ -10,7 +10,8 @@ use alloc::vec::Vec;
 use glam::{DVec2, DVec3};
 
 use crate::TreeCost;
-use crate::bvh::{Shape, Tree};
+use crate::aabb::BoxRay;
+use crate::bvh::{Shape, Tally, Tree, Visits};
 use crate::math::{gamma, length, unit_and_length};
 use crate::{Aabb, Found, GeometryError, HitRecord, Hittable, Interval, MaterialId, Ray};
 
@@ -104,11 +105,15 @@ pub struct TriangleMesh {
 /// memory (2 bytes a face instead of 8).
 const AREA_BLOCK: usize = 4;
 
-/// How the mesh's tree weighs a node against its faces: a face test costs about as much
-/// as a visit to a pair of nodes, and leaves of a few faces keep the tree small (see
-/// [`TriangleMesh::heap_bytes`]).
+/// How the mesh's tree weighs a node against its faces: a face test costs a little more
+/// than a node visit, and leaves of up to four faces keep the tree small (see
+/// [`TriangleMesh::heap_bytes`]: about 62 bytes a face on the bunny) without the leaves
+/// of eight large faces that a room of walls got at twice the node cost, every ray testing
+/// most of them. (At the node cost of a `Bvh`, 67 bytes a face on the bunny, and no
+/// faster on the triad of `benches/peers`.)
 const MESH_SHAPE: Shape = Shape {
-    traversal_cost: 2.0,
+    traversal_cost: 1.5,
+    max_leaf: 4,
 };
 
 impl TriangleMesh {
@@ -549,6 +554,7 @@ impl TriangleMesh {
     fn cross(
         &self,
         sheared: &Sheared,
+        box_ray: &mut Option<BoxRay>,
         ray: &Ray,
         ray_t: Interval,
         position: usize,
@@ -556,14 +562,19 @@ impl TriangleMesh {
         let p = self.corners_at(position);
         let mut crossing = sheared.test(&p)?;
         let beyond = crossing.t - crossing.t_error >= ray_t.min || ray_t.min == f64::NEG_INFINITY;
-        crossing.t = face_box(p).clamp_hit(ray, crossing.t)?;
-        if !(beyond && ray_t.contains(crossing.t)) {
+        // (The face a bounce or shadow ray leaves is crossed at about zero, and rejected
+        // here, before its box is computed.)
+        if !beyond {
+            return None;
+        }
+        crossing.t = face_box(p).clamp_hit_on(ray, box_ray, crossing.t)?;
+        if !ray_t.contains(crossing.t) {
             return None;
         }
         // Away from f64's end the hit's point and error bound cannot overflow (the weights
         // sum to one, the bound is a few ulps of three such terms); near it, only a
         // crossing whose record can be made counts, so that `occluded` answers as `hit`.
-        if self.near_overflow && self.point(position, crossing.barycentric).is_none() {
+        if self.near_overflow && self.point(position, crossing.barycentric()).is_none() {
             return None;
         }
         Some(crossing)
@@ -585,18 +596,31 @@ impl TriangleMesh {
     /// The closest crossing, its position in the tree's order, by the same rule as
     /// [`Bvh::hit_with_index`](crate::Bvh::hit_with_index): of faces hit at exactly the
     /// same `t`, the one the caller numbered first.
-    fn closest(&self, ray: &Ray, ray_t: Interval) -> Option<(usize, Crossing)> {
+    #[inline]
+    fn closest(
+        &self,
+        ray: &Ray,
+        ray_t: Interval,
+        tally: &mut impl Tally,
+    ) -> Option<(usize, Crossing)> {
         let sheared = Sheared::new(ray)?;
+        let mut box_ray = None;
         let mut closest: Option<(usize, Crossing)> = None;
         let mut t_max = ray_t.max;
         let order = &self.tree.order;
+        let mut tests = 0;
         self.tree
-            .walk(ray, ray_t, &mut t_max, |first, count, t_max| {
+            .walk(ray, ray_t, &mut t_max, tally, |first, count, t_max| {
+                tests += count;
                 for position in first..first + count {
-                    if let Some(c) =
-                        self.cross(&sheared, ray, Interval::new(ray_t.min, *t_max), position)
-                        && (c.t < *t_max
-                            || closest.is_none_or(|(best, _)| order[position] < order[best]))
+                    if let Some(c) = self.cross(
+                        &sheared,
+                        &mut box_ray,
+                        ray,
+                        Interval::new(ray_t.min, *t_max),
+                        position,
+                    ) && (c.t < *t_max
+                        || closest.is_none_or(|(best, _)| order[position] < order[best]))
                     {
                         *t_max = c.t;
                         closest = Some((position, c));
@@ -604,7 +628,61 @@ impl TriangleMesh {
                 }
                 false
             });
+        (0..tests).for_each(|_| tally.test());
         closest
+    }
+
+    /// Whether any face crosses `ray` within `ray_t`.
+    #[inline]
+    fn any(&self, ray: &Ray, ray_t: Interval, tally: &mut impl Tally) -> bool {
+        let Some(sheared) = Sheared::new(ray) else {
+            return false;
+        };
+        let mut box_ray = None;
+        let mut found = false;
+        let mut t_max = ray_t.max;
+        let mut tests = 0;
+        self.tree
+            .walk(ray, ray_t, &mut t_max, tally, |first, count, _| {
+                found = (first..first + count).any(|p| {
+                    tests += 1;
+                    self.cross(&sheared, &mut box_ray, ray, ray_t, p).is_some()
+                });
+                found
+            });
+        (0..tests).for_each(|_| tally.test());
+        found
+    }
+
+    /// What [`TriangleMesh::hit`](Hittable::hit) costs on `ray`: the tree's nodes whose
+    /// children's boxes it tests, and the faces it tests (see [`Bvh::hit_visits`]).
+    ///
+    /// ```
+    /// use hitkit::glam::DVec3;
+    /// use hitkit::{Interval, Ray, TriangleMesh};
+    ///
+    /// let square = [DVec3::ZERO, DVec3::X, DVec3::new(1.0, 1.0, 0.0), DVec3::Y];
+    /// let mesh = TriangleMesh::new(&square, &[[0, 1, 2], [0, 2, 3]]).unwrap();
+    /// let down = Ray::new(DVec3::new(0.7, 0.2, 1.0), DVec3::NEG_Z);
+    /// let cost = mesh.hit_visits(&down, Interval::FORWARD);
+    /// assert!(cost.nodes == 1 && (1..=2).contains(&cost.tests));
+    /// ```
+    ///
+    /// [`Bvh::hit_visits`]: crate::Bvh::hit_visits
+    #[must_use]
+    pub fn hit_visits(&self, ray: &Ray, ray_t: Interval) -> Visits {
+        let mut visits = Visits::default();
+        self.closest(ray, ray_t, &mut visits);
+        visits
+    }
+
+    /// What [`TriangleMesh::occluded`](Hittable::occluded) costs on `ray`, as
+    /// [`TriangleMesh::hit_visits`] counts.
+    #[must_use]
+    pub fn occluded_visits(&self, ray: &Ray, ray_t: Interval) -> Visits {
+        let mut visits = Visits::default();
+        self.any(ray, ray_t, &mut visits);
+        visits
     }
 
     /// The hit record of `crossing` of the face at `position`.
@@ -637,16 +715,16 @@ impl TriangleMesh {
 
 impl Hittable for TriangleMesh {
     fn hit(&self, ray: &Ray, ray_t: Interval) -> Option<HitRecord> {
-        let (position, crossing) = self.closest(ray, ray_t)?;
-        self.record_at(ray, position, crossing.t, crossing.barycentric)
+        let (position, crossing) = self.closest(ray, ray_t, &mut ())?;
+        self.record_at(ray, position, crossing.t, crossing.barycentric())
     }
 
     /// The face's barycentrics in `coords`, its position in the tree's order in `part`.
     fn find(&self, ray: &Ray, ray_t: Interval) -> Option<Found> {
-        let (position, crossing) = self.closest(ray, ray_t)?;
+        let (position, crossing) = self.closest(ray, ray_t, &mut ())?;
         Some(Found::new(
             crossing.t,
-            crossing.barycentric,
+            crossing.barycentric(),
             position as u32,
         ))
     }
@@ -666,16 +744,7 @@ impl Hittable for TriangleMesh {
 
     /// Stops at the first face found that the ray crosses within `ray_t`.
     fn occluded(&self, ray: &Ray, ray_t: Interval) -> bool {
-        let Some(sheared) = Sheared::new(ray) else {
-            return false;
-        };
-        let mut found = false;
-        let mut t_max = ray_t.max;
-        self.tree.walk(ray, ray_t, &mut t_max, |first, count, _| {
-            found = (first..first + count).any(|p| self.cross(&sheared, ray, ray_t, p).is_some());
-            found
-        });
-        found
+        self.any(ray, ray_t, &mut ())
     }
 }
 
@@ -728,11 +797,13 @@ impl Face<'_> {
     #[must_use]
     pub fn hit_barycentric(&self, ray: &Ray, ray_t: Interval) -> Option<(HitRecord, DVec3)> {
         let sheared = Sheared::new(ray)?;
-        let crossing = self.mesh.cross(&sheared, ray, ray_t, self.position)?;
+        let crossing = self
+            .mesh
+            .cross(&sheared, &mut None, ray, ray_t, self.position)?;
         let record = self
             .mesh
-            .record_at(ray, self.position, crossing.t, crossing.barycentric)?;
-        Some((record, crossing.barycentric))
+            .record_at(ray, self.position, crossing.t, crossing.barycentric())?;
+        Some((record, crossing.barycentric()))
     }
 }
 
@@ -796,7 +867,12 @@ const LARGEST_UNCHECKED: f64 = 3.273_390_607_896_142e150; // 2^500
 #[inline(always)]
 fn face_box([a, b, c]: [DVec3; 3]) -> Aabb {
     let (min, max) = (a.min(b).min(c), a.max(b).max(c));
-    Aabb { min, max }.grown(gamma(2) * min.abs().max(max.abs()))
+    // Never flat: an axis-aligned face's box has the thickness of an `f32` ulp of the
+    // face's size (about what the tree's `f32` boxes add to it anyway), so that its hits
+    // are settled within it by `clamp_hit`'s fast path, not the slab test, for rays from
+    // up to about 10^7 times its size away.
+    let thickness = (max - min).max_element() * f64::from(f32::EPSILON);
+    Aabb { min, max }.grown(gamma(2) * min.abs().max(max.abs()) + DVec3::splat(thickness))
 }
 
 impl TriangleMesh {

@@ -9,6 +9,7 @@
 mod lights;
 #[path = "../../../tests/support/scene.rs"]
 mod scene;
+mod triad;
 mod updates;
 
 use std::hint::black_box;
@@ -51,6 +52,14 @@ Options:
   --lights       instead of the tables above, what picking among many lights costs:
                  LightTree against a power-weighted Mixture, per sample and per density
                  query, at 10 to 1,000,000 lights, and the tree's build time and bytes
+  --triad        instead of the tables above, what a path tracer traces: primary rays
+                 from a camera, a cosine bounce and a shadow ray to a lamp from each
+                 primary hit, on the bunny, the book's Cornell box, a crowd of turned
+                 bunnies on a floor and the closed sphere from inside: TriangleMesh and
+                 Bvh<Quad<Triangle>> against obvhs, with node visits and face tests per ray
+  --crowd N      bunnies in the triad's crowd, 0 for none [default: 9]
+  --ftz          with --triad: hitkit's rows again with the CPU's flush-to-zero and
+                 denormals-are-zero modes on (x86_64), and the answers that change
   --rays N       incoherent rays per scene [default: 1000000]
   --side N       camera rays: an N x N grid [default: 1000]
   --runs K       repetitions of every build and trace; the median is reported [default: 3]
@@ -69,6 +78,9 @@ struct Args {
     mesh_only: bool,
     updates: bool,
     lights: bool,
+    triad: bool,
+    crowd: usize,
+    ftz: bool,
     rays: usize,
     side: usize,
     runs: usize,
@@ -137,6 +149,9 @@ fn parse_args(mut args: impl Iterator<Item = String>) -> Result<Option<Args>, St
         mesh_only: false,
         updates: false,
         lights: false,
+        triad: false,
+        crowd: 9,
+        ftz: false,
         rays: 1_000_000,
         side: 1_000,
         runs: 3,
@@ -160,10 +175,19 @@ fn parse_args(mut args: impl Iterator<Item = String>) -> Result<Option<Args>, St
             parsed.lights = true;
             continue;
         }
+        if flag == "--triad" {
+            parsed.triad = true;
+            continue;
+        }
+        if flag == "--ftz" {
+            parsed.ftz = true;
+            continue;
+        }
         if ![
             "--obj",
             "--soups",
             "--sphere",
+            "--crowd",
             "--rays",
             "--side",
             "--runs",
@@ -194,6 +218,10 @@ fn parse_args(mut args: impl Iterator<Item = String>) -> Result<Option<Args>, St
                 }
             }
             "--rays" => parsed.rays = count(&flag, &value)?,
+            "--crowd" => {
+                parsed.crowd = usize::try_from(number(&flag, &value)?)
+                    .map_err(|_| format!("`{flag}`: `{value}` is too large"))?;
+            }
             "--side" => parsed.side = count(&flag, &value)?,
             "--runs" => parsed.runs = count(&flag, &value)?,
             "--offsets" if value.is_empty() => parsed.offsets.clear(),
@@ -855,6 +883,10 @@ fn main() -> ExitCode {
             "warning: skipping the bunny: cannot load {}: {e}",
             args.obj.display()
         ),
+    }
+    if args.triad {
+        triad::run(&triad::scenes(scenes.first(), &args), &args);
+        return ExitCode::SUCCESS;
     }
     for &n in &args.soups {
         scenes.push(Scene::soup(
