@@ -244,27 +244,27 @@ impl HitRecord {
         let offset = self.normal.abs().dot(self.point_error).min(f64::MAX);
         let mut origin = self.point + offset * toward;
         // One more float away along every axis the normal has a component on, so that the
-        // origin leaves the surface even where the error bound is zero; past the
-        // subnormals, where that step from zero (a wall at `x = 0`) would land: every
-        // distance computed from such an origin would be slow, and with the CPU's
-        // denormals-are-zero mode on it would be read as zero, back on the surface.
-        // (Tried: a branch-free step of `2^-52 |x|` per axis, selected by the normal's
-        // signs; within noise.)
+        // origin leaves the surface even where the error bound is zero; and from zero (a
+        // wall at `x = 0`), well past the subnormals, where that step would land: the
+        // distances from such an origin, and their products with a direction's shear or
+        // reciprocal, would be subnormal, slow, and read as zero with the CPU's
+        // denormals-are-zero mode on (back on the surface). (Tried: a branch-free step of
+        // `2^-52 |x|` per axis, selected by the normal's signs; within noise.)
         for axis in 0..3 {
             let x = origin[axis];
             let (stepped, past) = if toward[axis] > 0.0 {
-                (x.next_up(), f64::MIN_POSITIVE)
+                (x.next_up(), SPAWN_FLOOR)
             } else if toward[axis] < 0.0 {
-                (x.next_down(), -f64::MIN_POSITIVE)
+                (x.next_down(), -SPAWN_FLOOR)
             } else {
                 continue;
             };
-            origin[axis] = if stepped.abs() >= f64::MIN_POSITIVE {
+            origin[axis] = if stepped.abs() >= SPAWN_FLOOR {
                 stepped
             } else if stepped != 0.0 && (stepped > 0.0) == (past > 0.0) {
                 past
             } else {
-                // From a subnormal on the other side of zero: zero is past it.
+                // From just across zero: zero is past it.
                 0.0
             };
         }
@@ -276,3 +276,8 @@ impl HitRecord {
         .at_time(self.time)
     }
 }
+
+/// The least magnitude [`HitRecord::spawn_ray`] steps a coordinate off zero to:
+/// `2^53` times the smallest normal number (about `2e-292`), so that products of the
+/// distances from it with factors down to `2^-53` stay normal.
+const SPAWN_FLOOR: f64 = f64::MIN_POSITIVE * (1u64 << 53) as f64;

@@ -77,13 +77,15 @@ fn scenes(s: f64) -> (TriangleMesh, Bvh<Box<dyn Hittable>>) {
     (mesh, Bvh::new(objects))
 }
 
+/// A hit as bits: `t`, the point and the face.
+type Bits = [u64; 5];
+
+/// A camera ray's hit, its bounce's hit, and whether its shadow ray is blocked.
+type Answer = (Option<Bits>, Option<Bits>, bool);
+
 /// For each camera ray: its hit (`t`, point and face, bit for bit), its bounce's, and
 /// whether its shadow ray toward a point of the lamp is blocked.
-fn trace(
-    scene: &dyn Hittable,
-    s: f64,
-    seed: u64,
-) -> Vec<(Option<[u64; 5]>, Option<[u64; 5]>, bool)> {
+fn trace(scene: &dyn Hittable, s: f64, seed: u64) -> Vec<Answer> {
     let key = |h: &hitkit::HitRecord| {
         [
             h.t.to_bits(),

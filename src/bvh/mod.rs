@@ -296,7 +296,7 @@ impl<T: Hittable> Bvh<T> {
         let mut closest: Option<(usize, usize, Found)> = None;
         let mut t_max = ray_t.max;
         let mut tests = 0;
-        self.walk(ray, ray_t, &mut t_max, tally, |objects, first, t_max| {
+        self.walk::<true>(ray, ray_t, &mut t_max, tally, |objects, first, t_max| {
             for (k, (object, &index)) in objects.iter().zip(&self.tree.order[first..]).enumerate() {
                 let index = index as usize;
                 tests += 1;
@@ -319,7 +319,7 @@ impl<T: Hittable> Bvh<T> {
         let mut found = false;
         let mut t_max = ray_t.max;
         let mut tests = 0;
-        self.walk(ray, ray_t, &mut t_max, tally, |objects, _, _| {
+        self.walk::<false>(ray, ray_t, &mut t_max, tally, |objects, _, _| {
             found = objects.iter().any(|o| {
                 tests += 1;
                 o.occluded(ray, ray_t)
@@ -335,7 +335,7 @@ impl<T: Hittable> Bvh<T> {
     fn hit_by_records(&self, ray: &Ray, ray_t: Interval) -> Option<(usize, HitRecord)> {
         let mut closest: Option<(usize, HitRecord)> = None;
         let mut t_max = ray_t.max;
-        self.walk(ray, ray_t, &mut t_max, &mut (), |objects, first, t_max| {
+        self.walk::<true>(ray, ray_t, &mut t_max, &mut (), |objects, first, t_max| {
             for (object, &index) in objects.iter().zip(&self.tree.order[first..]) {
                 let index = index as usize;
                 if let Some(hit) = object.hit(ray, Interval::new(ray_t.min, *t_max))

@@ -242,11 +242,12 @@ impl Tally for Visits {
 
 impl<T: Hittable> Bvh<T> {
     /// Offers `visit` the unbounded objects, then every leaf whose box the ray enters
-    /// within `[ray_t.min, *t_max]`, nearer child first. `visit` gets a run of objects, the
-    /// position of the first in `self.objects`, and `t_max`, which it lowers as it finds
-    /// hits (later boxes are culled against it); it returns `true` to stop.
+    /// within `[ray_t.min, *t_max]`, nearer child first where `NEAREST`. `visit` gets a
+    /// run of objects, the position of the first in `self.objects`, and `t_max`, which it
+    /// lowers as it finds hits (later boxes are culled against it); it returns `true` to
+    /// stop.
     #[inline]
-    pub(super) fn walk(
+    pub(super) fn walk<const NEAREST: bool>(
         &self,
         ray: &Ray,
         ray_t: Interval,
@@ -256,7 +257,7 @@ impl<T: Hittable> Bvh<T> {
     ) {
         let objects = &self.objects;
         self.tree
-            .walk(ray, ray_t, t_max, tally, |first, count, t_max| {
+            .walk::<NEAREST>(ray, ray_t, t_max, tally, |first, count, t_max| {
                 visit(&objects[first..first + count], first, t_max)
             });
     }
@@ -264,10 +265,14 @@ impl<T: Hittable> Bvh<T> {
 
 impl Tree {
     /// Offers `visit` the unbounded objects, then every leaf whose box the ray enters
-    /// within `[ray_t.min, *t_max]`, nearer child first, as a run of positions in the
-    /// tree's order (first, count); `visit` lowers `t_max` as it finds hits (later boxes
-    /// are culled against it) and returns `true` to stop. `tally` counts the nodes.
-    pub(crate) fn walk(
+    /// within `[ray_t.min, *t_max]`, as a run of positions in the tree's order (first,
+    /// count); `visit` lowers `t_max` as it finds hits (later boxes are culled against it)
+    /// and returns `true` to stop. `tally` counts the nodes.
+    ///
+    /// With `NEAREST`, the nearer child first: what finds a closest hit soonest, and lets
+    /// it cull the most. Without, in the node's order: for a query that stops at any hit
+    /// or sums them all, where sorting the children is work for nothing.
+    pub(crate) fn walk<const NEAREST: bool>(
         &self,
         ray: &Ray,
         ray_t: Interval,
@@ -297,19 +302,19 @@ impl Tree {
         let pending = (WIDTH - 1) * self.depth;
         match Lanes::new(self, ray, &box_ray, scaled_t) {
             Some(lanes) if pending <= SMALL => {
-                self.descend::<SMALL>(t_max, tally, visit, &lanes, &box_ray);
+                self.descend::<SMALL, NEAREST>(t_max, tally, visit, &lanes, &box_ray);
             }
             Some(lanes) if pending <= SHALLOW => {
-                self.descend::<SHALLOW>(t_max, tally, visit, &lanes, &box_ray);
+                self.descend::<SHALLOW, NEAREST>(t_max, tally, visit, &lanes, &box_ray);
             }
-            Some(lanes) => self.descend::<DEEP>(t_max, tally, visit, &lanes, &box_ray),
+            Some(lanes) => self.descend::<DEEP, NEAREST>(t_max, tally, visit, &lanes, &box_ray),
             None => {
                 let reference = Reference {
                     origin: self.origin.to_array(),
                     ray: box_ray,
                     min: scaled_t.min,
                 };
-                self.descend::<DEEP>(t_max, tally, visit, &reference, &box_ray);
+                self.descend::<DEEP, NEAREST>(t_max, tally, visit, &reference, &box_ray);
             }
         }
     }
@@ -318,7 +323,7 @@ impl Tree {
     /// child of a node before `t_max` (`+inf` where it misses), in the units of
     /// `box_ray`'s scaled direction.
     #[inline(always)]
-    fn descend<const STACK: usize>(
+    fn descend<const STACK: usize, const NEAREST: bool>(
         &self,
         t_max: &mut f64,
         tally: &mut impl Tally,
@@ -338,13 +343,15 @@ impl Tree {
                 let node = &self.nodes[index as usize];
                 tally.node();
                 let t = test.entries(node, limit);
-                // The children entered, nearest first (an insertion sort of at most four).
+                // The children entered, nearest first where asked (an insertion sort of
+                // at most four). (Tried: a branch-free sorting network on keys that order
+                // as the distances do; slower on primary rays, no faster on bounces.)
                 let mut entered = [(0.0f32, 0u32, 0u32); WIDTH];
                 let mut n = 0;
                 for (k, &t) in t.iter().enumerate() {
                     if t < f32::INFINITY {
                         let mut at = n;
-                        while at > 0 && entered[at - 1].0 > t {
+                        while NEAREST && at > 0 && entered[at - 1].0 > t {
                             entered[at] = entered[at - 1];
                             at -= 1;
                         }

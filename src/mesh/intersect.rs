@@ -108,8 +108,11 @@ impl Sheared {
     /// sign (or zero), which its neighbour's value mirrors. Every sign decided either way is the
     /// exact one or the mirrored one, so faces sharing an edge agree on which side the ray
     /// passes.
+    ///
+    /// A crossing whose `t` minus its error bound is below `t_min` may be dropped (it
+    /// does not count: see `TriangleMesh::cross`).
     #[inline(always)]
-    pub(super) fn test(&self, p: &[DVec3; 3]) -> Option<Crossing> {
+    pub(super) fn test(&self, p: &[DVec3; 3], t_min: f64) -> Option<Crossing> {
         let s = self.shear;
         let a0 = permute(p[0] - self.origin, self.kz);
         let a1 = permute(p[1] - self.origin, self.kz);
@@ -179,6 +182,16 @@ impl Sheared {
             return None;
         }
         let edges = DVec3::new(e0, e1, e2);
+        let z = a0.z.abs().max(a1.z.abs()).max(a2.z.abs());
+        let z_scaled = z * s.z.abs();
+        // A crossing that cannot lie beyond `t_min` by more than its error, whatever the
+        // edge functions' error, is dropped before that error is computed (the face a
+        // bounce or shadow ray leaves, crossed at about zero): [`t_error`] is at least
+        // `4 gamma(4) z_scaled` (its first term, with `E / margin >= 1`), so half that, as
+        // computed, is below it as computed, and `t` minus it below `t` minus the error.
+        if self.scale == 1.0 && t - 2.0 * gamma(4) * z_scaled < t_min {
+            return None;
+        }
         // The edge functions' error, from what enters each corner's sheared coordinates,
         // `X = |a_x| + |s_x a_z|` and `Y = |a_y| + |s_y a_z|`: each coordinate is within
         // `gamma(4)` of them of its exact value (the difference's rounding, `s`'s, the
@@ -203,8 +216,7 @@ impl Sheared {
             * (edge(corners[1], corners[2])
                 + edge(corners[2], corners[0])
                 + edge(corners[0], corners[1]));
-        let z = a0.z.abs().max(a1.z.abs()).max(a2.z.abs());
-        let t_error = t_error(t, det, edge_error, z * s.z.abs(), s.z.abs());
+        let t_error = t_error(t, det, edge_error, z_scaled, s.z.abs());
         if self.scale == 1.0 {
             return Some(Crossing {
                 t,

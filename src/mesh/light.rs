@@ -43,7 +43,7 @@ impl PdfHittable for TriangleMesh {
         let mut sum = 0.0;
         let mut t_max = f64::INFINITY;
         let mut box_ray = None;
-        self.tree.walk(
+        self.tree.walk::<false>(
             &ray,
             Interval::FORWARD,
             &mut t_max,

@@ -560,7 +560,7 @@ impl TriangleMesh {
         position: usize,
     ) -> Option<Crossing> {
         let p = self.corners_at(position);
-        let mut crossing = sheared.test(&p)?;
+        let mut crossing = sheared.test(&p, ray_t.min)?;
         let beyond = crossing.t - crossing.t_error >= ray_t.min || ray_t.min == f64::NEG_INFINITY;
         // (The face a bounce or shadow ray leaves is crossed at about zero, and rejected
         // here, before its box is computed.)
@@ -610,7 +610,7 @@ impl TriangleMesh {
         let order = &self.tree.order;
         let mut tests = 0;
         self.tree
-            .walk(ray, ray_t, &mut t_max, tally, |first, count, t_max| {
+            .walk::<true>(ray, ray_t, &mut t_max, tally, |first, count, t_max| {
                 tests += count;
                 for position in first..first + count {
                     if let Some(c) = self.cross(
@@ -643,7 +643,7 @@ impl TriangleMesh {
         let mut t_max = ray_t.max;
         let mut tests = 0;
         self.tree
-            .walk(ray, ray_t, &mut t_max, tally, |first, count, _| {
+            .walk::<false>(ray, ray_t, &mut t_max, tally, |first, count, _| {
                 found = (first..first + count).any(|p| {
                     tests += 1;
                     self.cross(&sheared, &mut box_ray, ray, ray_t, p).is_some()

@@ -332,6 +332,10 @@ trait Library {
     fn occluded(&self, ray: &Ray) -> bool;
     /// (node visits, face tests) of a closest-hit query and of an any-hit one.
     fn count(&self, ray: &Ray, any: bool) -> Option<(u32, u32)>;
+    /// Whether its answers are compared with the mesh's.
+    fn checked(&self) -> bool {
+        true
+    }
 }
 
 struct Mesh<'a>(TriangleMesh, &'a [usize]);
@@ -355,6 +359,31 @@ impl Library for Mesh<'_> {
             self.0.hit_visits(ray, Interval::FORWARD)
         };
         Some((nodes, tests))
+    }
+}
+
+/// The mesh's closest hits by `find` alone: `t`, the face (by its place in the mesh's
+/// order) and its barycentrics, no record; what obvhs's rows return. Its answers are the
+/// `hit` row's, numbered otherwise, so they are not compared.
+struct MeshFind(TriangleMesh);
+
+impl Library for MeshFind {
+    fn name(&self) -> String {
+        "hitkit TriangleMesh, find (no record)".into()
+    }
+    fn closest(&self, ray: &Ray) -> Option<usize> {
+        self.0
+            .find(ray, Interval::FORWARD)
+            .map(|found| found.part as usize)
+    }
+    fn occluded(&self, ray: &Ray) -> bool {
+        self.0.occluded(ray, SHADOW)
+    }
+    fn count(&self, _: &Ray, _: bool) -> Option<(u32, u32)> {
+        None
+    }
+    fn checked(&self) -> bool {
+        false
     }
 }
 
@@ -633,10 +662,11 @@ pub fn run(scenes: &[TriadScene], args: &Args) {
             tree: leaf_tree,
         };
         let libs: Vec<Box<dyn Library + '_>> = vec![
-            Box::new(Mesh(mesh, &position)),
+            Box::new(Mesh(mesh.clone(), &position)),
             Box::new(own),
             Box::new(Generic(Bvh::new(quads.clone()))),
             Box::new(leaf),
+            Box::new(MeshFind(mesh)),
         ];
         // Answers first (untimed), against the mesh's; then FTZ/DAZ's effect on them.
         let reference = answer(libs[0].as_ref(), &rays);
@@ -652,7 +682,7 @@ pub fn run(scenes: &[TriadScene], args: &Args) {
             rays.shadow.len(),
             reference.shadow.iter().filter(|&&o| o).count(),
         ));
-        for lib in &libs[1..] {
+        for lib in libs[1..].iter().filter(|lib| lib.checked()) {
             let a = answer(lib.as_ref(), &rays);
             let d = [
                 differ(&reference.primary, &a.primary),
@@ -689,7 +719,10 @@ pub fn run(scenes: &[TriadScene], args: &Args) {
             }
         }
         // Node visits and face tests per ray, in a pass of their own.
-        for lib in &libs {
+        for lib in libs
+            .iter()
+            .filter(|lib| lib.count(&rays.primary[0], false).is_some())
+        {
             let per_ray = |set: &[Ray], any: bool| {
                 let (n, t) = set.iter().fold((0u64, 0u64), |(n, t), r| {
                     let (a, b) = lib.count(r, any).unwrap_or((0, 0));
