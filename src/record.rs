@@ -221,7 +221,9 @@ impl HitRecord {
     ///
     /// The origin is moved off the surface, to the side `direction` points to, by the
     /// point's error bound projected on the normal, then rounded one more float away
-    /// (pbrt-v4's `OffsetRayOrigin`).
+    /// (pbrt-v4's `OffsetRayOrigin`); a coordinate at zero (a wall on a coordinate plane)
+    /// is moved to about `2e-292` (`2^-969`), past the subnormal numbers, which are slow
+    /// to compute with and which a CPU in denormals-are-zero mode reads as zero.
     ///
     /// ```
     /// use hitkit::{glam::DVec3, Hittable, Interval, Quad, Ray};

@@ -226,3 +226,33 @@ fn axis_parallel_rays_in_slab_planes_are_not_lost() {
         }
     }
 }
+
+/// `hit_visits` and `occluded_visits` count what the two queries do: a ray above a row of
+/// tiles tests the root's boxes and nothing else; one onto a tile tests it among a leaf's
+/// few; a shadow ray through a stack of parallel tiles stops at the first it finds, while
+/// the closest hit must rule out every tile nearer than its own, and the mesh counts its
+/// faces as the tree counts its objects.
+#[test]
+fn visits_count_what_the_queries_do() {
+    let tile = |x: f64, z: f64| Quad::new(DVec3::new(x, 0.0, z), DVec3::X, DVec3::Y).unwrap();
+    let row = Bvh::new((0..100).map(|i| tile(f64::from(i), 0.0)).collect());
+    let above = Ray::new(DVec3::new(41.5, 5.0, 1.0), DVec3::NEG_Z);
+    let missed = row.hit_visits(&above, Interval::FORWARD);
+    assert_eq!((missed.nodes, missed.tests), (1, 0));
+    let onto = Ray::new(DVec3::new(41.5, 0.5, 1.0), DVec3::NEG_Z);
+    let found = row.hit_visits(&onto, Interval::FORWARD);
+    assert!(found.nodes >= 2 && (1..=8).contains(&found.tests), "{found:?}");
+
+    let stack = Bvh::new((0..64).map(|i| tile(0.0, -f64::from(i))).collect());
+    let through = Ray::new(DVec3::new(0.5, 0.5, 1.0), DVec3::NEG_Z);
+    let closest = stack.hit_visits(&through, Interval::FORWARD);
+    let any = stack.occluded_visits(&through, Interval::FORWARD);
+    assert!(any.tests >= 1 && any.tests <= 8 && any.tests <= closest.tests, "{any:?} {closest:?}");
+    assert_eq!(stack.occluded_visits(&above, Interval::FORWARD).tests, 0);
+
+    let square = [DVec3::ZERO, DVec3::X, DVec3::new(1.0, 1.0, 0.0), DVec3::Y];
+    let mesh = hitkit::TriangleMesh::new(&square, &[[0, 1, 2], [0, 2, 3]]).unwrap();
+    let down = Ray::new(DVec3::new(0.7, 0.2, 1.0), DVec3::NEG_Z);
+    assert_eq!(mesh.hit_visits(&down, Interval::FORWARD).tests, 2);
+    assert_eq!(mesh.occluded_visits(&down, Interval::FORWARD).nodes, 1);
+}
