@@ -241,13 +241,19 @@ fn visits_count_what_the_queries_do() {
     assert_eq!((missed.nodes, missed.tests), (1, 0));
     let onto = Ray::new(DVec3::new(41.5, 0.5, 1.0), DVec3::NEG_Z);
     let found = row.hit_visits(&onto, Interval::FORWARD);
-    assert!(found.nodes >= 2 && (1..=8).contains(&found.tests), "{found:?}");
+    assert!(
+        found.nodes >= 2 && (1..=8).contains(&found.tests),
+        "{found:?}"
+    );
 
     let stack = Bvh::new((0..64).map(|i| tile(0.0, -f64::from(i))).collect());
     let through = Ray::new(DVec3::new(0.5, 0.5, 1.0), DVec3::NEG_Z);
     let closest = stack.hit_visits(&through, Interval::FORWARD);
     let any = stack.occluded_visits(&through, Interval::FORWARD);
-    assert!(any.tests >= 1 && any.tests <= 8 && any.tests <= closest.tests, "{any:?} {closest:?}");
+    assert!(
+        any.tests >= 1 && any.tests <= 8 && any.tests <= closest.tests,
+        "{any:?} {closest:?}"
+    );
     assert_eq!(stack.occluded_visits(&above, Interval::FORWARD).tests, 0);
 
     let square = [DVec3::ZERO, DVec3::X, DVec3::new(1.0, 1.0, 0.0), DVec3::Y];

@@ -463,8 +463,13 @@ fn rays_spawned_from_walls_at_zero_leave_them() {
         }
     }
     assert_eq!(spawned, 2000);
-    // The same, from an origin given a subnormal coordinate by hand.
+    // From that wall, the origin steps to 2^-900, past the subnormals (and far enough
+    // that its distances times a rounding bound and a direction's reciprocal stay normal).
     let wall = TriangleMesh::new(&[DVec3::ZERO, DVec3::Y, DVec3::Z], &[[0, 1, 2]]).unwrap();
+    let onto = Ray::new(DVec3::new(1.0, 0.2, 0.3), DVec3::NEG_X);
+    let spawned = wall.hit(&onto, FORWARD).unwrap().spawn_ray(DVec3::X);
+    assert_eq!(spawned.origin.x, 2f64.powi(-900));
+    // The same, from an origin given a subnormal coordinate by hand.
     for x in [5e-324, 1e-320, 2.2e-308] {
         let ray = Ray::new(DVec3::new(x, 0.2, 0.3), DVec3::new(1.0, 0.1, 0.2));
         assert!(wall.hit(&ray, FORWARD).is_none() && !wall.occluded(&ray, FORWARD));
