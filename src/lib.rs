@@ -76,7 +76,7 @@
 //! answer, for scenes and rays whose non-zero coordinates, extents and direction
 //! components lie within about `1e-100` to `1e100` in magnitude (zeros included: walls on
 //! the coordinate planes): hitkit makes no subnormal number on the paths a renderer takes
-//! (a spawned ray's origin steps off zero to about `2e-292`, a tree's `f32` boxes and its
+//! (a spawned ray's origin steps off zero to about `1.5e-271`, a tree's `f32` boxes and its
 //! box test's distances hold none), and where a product may still underflow (the depths
 //! of a crossing near a wall at zero), its error bound carries the smallest normal number
 //! per operation, which a flushed result is within. `tests/flush_to_zero.rs` traces a
