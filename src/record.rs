@@ -253,22 +253,11 @@ impl HitRecord {
         // denormals-are-zero mode on (back on the surface). (Tried: a branch-free step of
         // `2^-52 |x|` per axis, selected by the normal's signs; within noise.)
         for axis in 0..3 {
-            let x = origin[axis];
-            let (stepped, past) = if toward[axis] > 0.0 {
-                (x.next_up(), SPAWN_FLOOR)
+            if toward[axis] > 0.0 {
+                origin[axis] = off_zero(origin[axis].next_up());
             } else if toward[axis] < 0.0 {
-                (x.next_down(), -SPAWN_FLOOR)
-            } else {
-                continue;
-            };
-            origin[axis] = if stepped.abs() >= SPAWN_FLOOR {
-                stepped
-            } else if stepped != 0.0 && (stepped > 0.0) == (past > 0.0) {
-                past
-            } else {
-                // From just across zero: zero is past it.
-                0.0
-            };
+                origin[axis] = -off_zero(-origin[axis].next_down());
+            }
         }
         // Near the end of the range, the origin stays finite (at the end of it).
         Ray::new(
@@ -276,6 +265,19 @@ impl HitRecord {
             direction,
         )
         .at_time(self.time)
+    }
+}
+
+/// `x`, a coordinate just stepped up, unless it lies within [`SPAWN_FLOOR`] of zero: then
+/// the floor (or zero, from just below zero), which lies past it.
+#[inline(always)]
+fn off_zero(x: f64) -> f64 {
+    if x.abs() >= SPAWN_FLOOR {
+        x
+    } else if x > 0.0 {
+        SPAWN_FLOOR
+    } else {
+        0.0
     }
 }
 
