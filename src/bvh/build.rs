@@ -142,7 +142,8 @@ impl Shape {
 impl Tree {
     /// The tree over `count` objects whose boxes `box_of` gives (called twice per object),
     /// and the union of all the boxes; `parallel` builds large subtrees side by side (with
-    /// the `rayon` feature; the same tree).
+    /// the `rayon` feature; the same tree). (Tried: reinsertion, `Bvh::optimize`, right
+    /// after the build, as obvhs's medium preset does: the cost 1% lower, rays no faster.)
     ///
     /// # Panics
     /// If `count` exceeds `u32::MAX`.
