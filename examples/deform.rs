@@ -137,7 +137,7 @@ fn main() -> ExitCode {
     };
     // `--frames N` and `--obj PATH` are this example's own; the rest go to the common ones.
     let (mut frames, mut obj, mut rest) = (12usize, None, Vec::new());
-    let mut args = std::env::args().skip(1);
+    let mut args = common::cli::split_equals(std::env::args().skip(1)).into_iter();
     while let Some(arg) = args.next() {
         match arg.as_str() {
             "--frames" => match args.next().and_then(|v| v.parse().ok()) {

@@ -26,7 +26,7 @@ fn main() -> ExitCode {
     };
     // `--obj PATH` is this example's own; the rest go to the common options.
     let (mut obj, mut rest) = (None, Vec::new());
-    let mut args = std::env::args().skip(1);
+    let mut args = common::cli::split_equals(std::env::args().skip(1)).into_iter();
     while let Some(arg) = args.next() {
         if arg == "--obj" {
             match args.next() {

@@ -14,6 +14,14 @@ use crate::{Aabb, Found, GeometryError, HitRecord, Hittable, Interval, PdfHittab
 /// Solid-angle densities do not change under a rigid motion either, so a transformed
 /// [`PdfHittable`] stays one.
 ///
+/// **No scale.** Build a scaled copy at its size instead (a [`Sphere`](crate::Sphere) of
+/// another radius, a [`Quad`](crate::Quad) of longer edges, a
+/// [`TriangleMesh`](crate::TriangleMesh) of scaled vertices, which a refit makes in
+/// place): a scale that is not a power of two rounds every coordinate it carries between
+/// the spaces, and that rounding, grown by the scale, would have to join every error bound
+/// the object states in its own space (its hit points', its tolerance), on top of the
+/// rotation's; built at its size, the object states its bounds for the size it has.
+///
 /// ```
 /// use hitkit::glam::DVec3;
 /// use hitkit::{Cuboid, Hittable, Interval, Ray, Transformed};

@@ -89,3 +89,37 @@ fn an_output_that_cannot_be_written_is_refused_and_a_good_one_left_alone() {
     assert_eq!(std::fs::read(&old).unwrap(), b"keep");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// `--flag=value` is taken as `--flag value` (so `--width=-5` is refused for its value,
+/// naming it, not as an unknown option).
+#[test]
+fn flags_with_equals_are_taken() {
+    let o = parse(&["--width=640", "--roulette=no"]).unwrap().unwrap();
+    assert_eq!((o.width, o.roulette), (640, false));
+    let error = parse(&["--width=-5"]).unwrap_err();
+    assert!(
+        error.starts_with("--width") && error.contains("-5"),
+        "{error}"
+    );
+    let split = common::cli::split_equals(["--obj=a=b.obj".to_string(), "x=y".to_string()]);
+    assert_eq!(split, ["--obj", "a=b.obj", "x=y"]);
+}
+
+/// An OBJ file that cannot be read is refused with the operating system's reason, and one
+/// whose faces are all degenerate with a word, not an empty image.
+#[test]
+fn obj_files_that_cannot_render_are_refused_saying_why() {
+    // (A directory of its own: the tests of this file run side by side.)
+    let dir = std::env::temp_dir().join(format!("hitkit-example-obj-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let missing = dir.join("missing.obj");
+    let reason = std::fs::File::open(&missing).unwrap_err().to_string();
+    let error = common::scenes::load_obj(&missing).unwrap_err();
+    assert!(error.contains(&reason), "{error}");
+
+    let flat = dir.join("flat.obj");
+    std::fs::write(&flat, "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n").unwrap();
+    let error = common::scenes::load_obj(&flat).unwrap_err();
+    assert!(error.contains("degenerate"), "{error}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}

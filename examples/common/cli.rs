@@ -73,7 +73,7 @@ impl Options {
     /// These options changed by `args` (the command line without the program's name);
     /// `Ok(None)` for `--help`, an error naming the flag for a bad or out-of-range value.
     pub fn parse(mut self, args: impl IntoIterator<Item = String>) -> Result<Option<Self>, String> {
-        let mut args = args.into_iter();
+        let mut args = split_equals(args).into_iter();
         while let Some(flag) = args.next() {
             if flag == "-h" || flag == "--help" {
                 return Ok(None);
@@ -109,6 +109,19 @@ impl Options {
         }
         Ok(Some(self))
     }
+}
+
+/// The command line with every `--flag=value` split into `--flag` and `value`, so that both
+/// spellings are taken (and `--width=-5` is refused for its value, not as an unknown flag).
+pub fn split_equals(args: impl IntoIterator<Item = String>) -> Vec<String> {
+    args.into_iter()
+        .flat_map(|arg| match arg.split_once('=') {
+            Some((flag, value)) if flag.starts_with("--") => {
+                vec![flag.to_owned(), value.to_owned()]
+            }
+            _ => vec![arg],
+        })
+        .collect()
 }
 
 /// The whole of an example's `main`: parse the options (starting from `defaults`), build the

@@ -313,6 +313,9 @@ pub fn load_obj(path: &std::path::Path) -> Result<hitkit::TriangleMesh, String> 
         single_index: true,
         ..Default::default()
     };
+    // Opened first, so that a missing or unreadable file is refused with the operating
+    // system's reason (tobj's error names none).
+    std::fs::File::open(path).map_err(|e| format!("cannot read {}: {e}", path.display()))?;
     let (models, _) = tobj::load_obj(path, &options)
         .map_err(|e| format!("cannot read {}: {e}", path.display()))?;
     let (mut vertices, mut normals, mut faces) = (Vec::new(), Vec::new(), Vec::new());
@@ -347,6 +350,13 @@ pub fn load_obj(path: &std::path::Path) -> Result<hitkit::TriangleMesh, String> 
     let placed: Vec<DVec3> = vertices.iter().map(|&p| scale * (p - centre)).collect();
     let mesh = hitkit::TriangleMesh::new(&placed, &faces)
         .map_err(|e| format!("{}: {e}", path.display()))?;
+    if mesh.hittable_face_count() == 0 {
+        return Err(format!(
+            "{}: all {} triangles are degenerate (no area): nothing to render",
+            path.display(),
+            faces.len()
+        ));
+    }
     if all_normals {
         mesh.with_normals(&normals)
             .map_err(|e| format!("{}: {e}", path.display()))
