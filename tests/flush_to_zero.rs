@@ -12,7 +12,7 @@ mod support;
 
 use hitkit::glam::DVec3;
 use hitkit::{Bvh, Cuboid, Hittable, Interval, Quad, Ray, Sphere, TriangleMesh};
-use support::SplitMix;
+use support::{SplitMix, cube_corner, cube_faces};
 
 /// Turns both modes on or off on this thread, returning the register's previous value.
 fn flush_to_zero(on: bool) -> u32 {
@@ -30,39 +30,27 @@ fn flush_to_zero(on: bool) -> u32 {
 /// A room `[0, s]^3` of two triangles a wall with a box on its floor, and the same walls
 /// and box as quads with two spheres in a tree: what the rays are traced against.
 fn scenes(s: f64) -> (TriangleMesh, Bvh<Box<dyn Hittable>>) {
-    let corner = |i: u32| {
-        DVec3::new(
-            f64::from(i & 1),
-            f64::from((i >> 1) & 1),
-            f64::from((i >> 2) & 1),
-        ) * s
-    };
     // The room's corners, then a box's standing on its floor.
-    let block = |i: u32| {
-        let c = corner(i) / s;
-        (DVec3::new(0.5, 0.0, 0.1) + c * DVec3::new(0.3, 0.6, 0.3)) * s
-    };
-    let vertices: Vec<DVec3> = (0..8).map(corner).chain((0..8).map(block)).collect();
-    let walls = [
-        [0, 1, 3, 2],
-        [4, 6, 7, 5],
-        [0, 4, 5, 1],
-        [2, 3, 7, 6],
-        [0, 2, 6, 4],
-        [1, 5, 7, 3],
-    ];
+    let block =
+        |i: u32| (DVec3::new(0.5, 0.0, 0.1) + cube_corner(i) * DVec3::new(0.3, 0.6, 0.3)) * s;
+    let vertices: Vec<DVec3> = (0..8)
+        .map(|i| cube_corner(i) * s)
+        .chain((0..8).map(block))
+        .collect();
+    let walls = cube_faces();
     let faces: Vec<[u32; 3]> = walls
         .iter()
-        .chain(&walls.map(|w| w.map(|i| i + 8)))
-        .flat_map(|&[a, b, c, d]| [[a, b, c], [a, c, d]])
+        .copied()
+        .chain(walls.iter().map(|f| f.map(|i| i + 8)))
         .collect();
     let mesh = TriangleMesh::new(&vertices, &faces).unwrap();
+    // The walls again as quads: the triangles `[a, b, c]`, `[a, c, d]` of a wall are the
+    // parallelogram on `a`, `b` and `d`.
     let mut objects: Vec<Box<dyn Hittable>> = walls
-        .iter()
-        .map(|&[a, b, _, d]| {
-            let q = vertices[a as usize];
-            let quad = Quad::new(q, vertices[b as usize] - q, vertices[d as usize] - q).unwrap();
-            Box::new(quad) as Box<dyn Hittable>
+        .chunks_exact(2)
+        .map(|pair| {
+            let [q, b, d] = [pair[0][0], pair[0][1], pair[1][2]].map(|i| vertices[i as usize]);
+            Box::new(Quad::new(q, b - q, d - q).unwrap()) as Box<dyn Hittable>
         })
         .collect();
     objects.push(Box::new(

@@ -12,7 +12,9 @@ use hitkit::{
 };
 use proptest::prelude::*;
 use support::distance::{planar_bound, to_polygon};
-use support::{SplitMix, face_point, icosphere, instances, placements, rotation};
+use support::{
+    SplitMix, cube_corner, cube_faces, face_point, icosphere, instances, placements, rotation,
+};
 
 const FORWARD: Interval = Interval::FORWARD;
 
@@ -416,26 +418,8 @@ fn rays_spawned_from_walls_at_zero_leave_them() {
     let mut rng = SplitMix::new(35);
     let mut spawned = 0;
     for size in [1e-3, 1.0, 555.0, 1e6] {
-        let corner = |i: u32| {
-            DVec3::new(
-                f64::from(i & 1),
-                f64::from((i >> 1) & 1),
-                f64::from((i >> 2) & 1),
-            ) * size
-        };
-        let vertices: Vec<DVec3> = (0..8).map(corner).collect();
-        let faces: Vec<[u32; 3]> = [
-            [0, 1, 3, 2],
-            [4, 6, 7, 5],
-            [0, 4, 5, 1],
-            [2, 3, 7, 6],
-            [0, 2, 6, 4],
-            [1, 5, 7, 3],
-        ]
-        .iter()
-        .flat_map(|&[a, b, c, d]| [[a, b, c], [a, c, d]])
-        .collect();
-        let room = TriangleMesh::new(&vertices, &faces).unwrap();
+        let vertices: Vec<DVec3> = (0..8).map(|i| cube_corner(i) * size).collect();
+        let room = TriangleMesh::new(&vertices, &cube_faces()).unwrap();
         for _ in 0..500 {
             let inside = |rng: &mut SplitMix| (0.05 + 0.9 * rng.vec3()) * size;
             let Some(hit) = room.hit(&Ray::new(inside(&mut rng), rng.direction()), FORWARD) else {

@@ -96,6 +96,31 @@ pub fn camera_rays((lo, hi): (DVec3, DVec3), side: usize) -> Vec<Ray> {
     rays
 }
 
+/// Corner `i` (0 to 7) of the unit cube: `(i & 1, i >> 1 & 1, i >> 2 & 1)`.
+pub fn cube_corner(i: u32) -> DVec3 {
+    DVec3::new(
+        f64::from(i & 1),
+        f64::from((i >> 1) & 1),
+        f64::from((i >> 2) & 1),
+    )
+}
+
+/// The unit cube's six faces as twelve triangles over its corners ([`cube_corner`]), two a
+/// face sharing its diagonal: a closed box (or room) of shared vertices, as users model one.
+pub fn cube_faces() -> Vec<[u32; 3]> {
+    [
+        [0, 1, 3, 2],
+        [4, 6, 7, 5],
+        [0, 4, 5, 1],
+        [2, 3, 7, 6],
+        [0, 2, 6, 4],
+        [1, 5, 7, 3],
+    ]
+    .iter()
+    .flat_map(|&[a, b, c, d]| [[a, b, c], [a, c, d]])
+    .collect()
+}
+
 /// The CPU's name (from /proc/cpuinfo where there is one) and the number of cores, to name
 /// the machine beside every figure printed.
 pub fn machine() -> String {

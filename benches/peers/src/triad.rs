@@ -90,22 +90,14 @@ impl Builder {
         let (sin, cos) = degrees.to_radians().sin_cos();
         let place =
             |p: DVec3| DVec3::new(cos * p.x + sin * p.z, p.y, -sin * p.x + cos * p.z) + offset;
-        let corner = |i: usize| {
-            let pick = DVec3::new((i & 1) as f64, ((i >> 1) & 1) as f64, ((i >> 2) & 1) as f64);
-            place(pick * size)
-        };
-        let ids: Vec<u32> = (0..8).map(|i| self.vertex(corner(i))).collect();
-        for [a, b, c, d] in [
-            [0, 1, 3, 2],
-            [4, 6, 7, 5],
-            [0, 4, 5, 1],
-            [2, 3, 7, 6],
-            [0, 2, 6, 4],
-            [1, 5, 7, 3],
-        ] {
-            self.faces.push([ids[a], ids[b], ids[c]]);
-            self.faces.push([ids[a], ids[c], ids[d]]);
-        }
+        let ids: Vec<u32> = (0..8)
+            .map(|i| self.vertex(place(crate::scene::cube_corner(i) * size)))
+            .collect();
+        self.faces.extend(
+            crate::scene::cube_faces()
+                .iter()
+                .map(|f| f.map(|i| ids[i as usize])),
+        );
     }
 
     fn finish(self, name: &str) -> Scene {
