@@ -295,7 +295,7 @@ impl<T: Hittable> Bvh<T> {
     ) -> Option<(usize, usize, Found)> {
         let mut closest: Option<(usize, usize, Found)> = None;
         let mut t_max = ray_t.max;
-        let mut tests = 0;
+        let mut tests = 0u32;
         self.walk::<true>(ray, ray_t, &mut t_max, tally, |objects, first, t_max| {
             for (k, (object, &index)) in objects.iter().zip(&self.tree.order[first..]).enumerate() {
                 let index = index as usize;
@@ -309,7 +309,7 @@ impl<T: Hittable> Bvh<T> {
             }
             false
         });
-        (0..tests).for_each(|_| tally.test());
+        tally.tests(tests);
         closest
     }
 
@@ -318,7 +318,7 @@ impl<T: Hittable> Bvh<T> {
     fn any(&self, ray: &Ray, ray_t: Interval, tally: &mut impl Tally) -> bool {
         let mut found = false;
         let mut t_max = ray_t.max;
-        let mut tests = 0;
+        let mut tests = 0u32;
         self.walk::<false>(ray, ray_t, &mut t_max, tally, |objects, _, _| {
             found = objects.iter().any(|o| {
                 tests += 1;
@@ -326,7 +326,7 @@ impl<T: Hittable> Bvh<T> {
             });
             found
         });
-        (0..tests).for_each(|_| tally.test());
+        tally.tests(tests);
         found
     }
 

@@ -219,14 +219,14 @@ const STEP: f64 = f32::MIN_POSITIVE as f64;
 /// tests. `()` counts nothing (and costs nothing); [`Visits`] counts.
 pub(crate) trait Tally {
     fn node(&mut self);
-    fn test(&mut self);
+    fn tests(&mut self, count: u32);
 }
 
 impl Tally for () {
     #[inline(always)]
     fn node(&mut self) {}
     #[inline(always)]
-    fn test(&mut self) {}
+    fn tests(&mut self, _: u32) {}
 }
 
 impl Tally for Visits {
@@ -235,8 +235,8 @@ impl Tally for Visits {
         self.nodes += 1;
     }
     #[inline(always)]
-    fn test(&mut self) {
-        self.tests += 1;
+    fn tests(&mut self, count: u32) {
+        self.tests += count;
     }
 }
 

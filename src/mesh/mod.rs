@@ -608,10 +608,10 @@ impl TriangleMesh {
         let mut closest: Option<(usize, Crossing)> = None;
         let mut t_max = ray_t.max;
         let order = &self.tree.order;
-        let mut tests = 0;
+        let mut tests = 0u32;
         self.tree
             .walk::<true>(ray, ray_t, &mut t_max, tally, |first, count, t_max| {
-                tests += count;
+                tests += count as u32;
                 for position in first..first + count {
                     if let Some(c) = self.cross(
                         &sheared,
@@ -628,7 +628,7 @@ impl TriangleMesh {
                 }
                 false
             });
-        (0..tests).for_each(|_| tally.test());
+        tally.tests(tests);
         closest
     }
 
@@ -641,7 +641,7 @@ impl TriangleMesh {
         let mut box_ray = None;
         let mut found = false;
         let mut t_max = ray_t.max;
-        let mut tests = 0;
+        let mut tests = 0u32;
         self.tree
             .walk::<false>(ray, ray_t, &mut t_max, tally, |first, count, _| {
                 found = (first..first + count).any(|p| {
@@ -650,7 +650,7 @@ impl TriangleMesh {
                 });
                 found
             });
-        (0..tests).for_each(|_| tally.test());
+        tally.tests(tests);
         found
     }
 
