@@ -24,7 +24,7 @@ fn main() -> ExitCode {
         threads: 0,
     };
     // Area sampling: in this image it leaves the same error as solid-angle sampling in less
-    // time (README, "Accuracy and its cost"): the noise comes from indirect light.
+    // time (docs/accuracy.md): the noise comes from indirect light.
     run("cornell", defaults, |o| {
         cornell_scene(o.width, Sampling::Area)
     })

@@ -226,7 +226,8 @@ fn main() -> ExitCode {
             Material::Lambertian(Color::new(0.45, 0.45, 0.4)),
             Material::Lambertian(Color::new(0.75, 0.25, 0.2)),
         ],
-        lights: common::Lights::default(),
+        lights: None,
+        next_event: false,
         background: Background::Sky,
         camera: CameraSettings {
             width: options.width,

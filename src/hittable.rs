@@ -7,7 +7,7 @@ use alloc::sync::Arc;
 
 use glam::{DVec2, DVec3};
 
-use crate::{Aabb, Found, HitRecord, Interval, Ray};
+use crate::{Aabb, Found, HitRecord, Interval, LightSample, Ray, ShadingContext};
 
 /// Something a ray can hit. Object safe: scenes mix shapes as `Box<dyn Hittable>`.
 ///
@@ -98,14 +98,45 @@ pub trait Hittable: Send + Sync {
 ///
 /// Object safe: the sample point `u` is a uniform point of `[0, 1)^2`, so any sampler
 /// (random, stratified, low-discrepancy) drives it.
+///
+/// Two levels. [`sample_direction`](PdfHittable::sample_direction) and
+/// [`pdf_value`](PdfHittable::pdf_value) are the book's: a direction from a point, and its
+/// density; a shape implements these. [`sample_light`](PdfHittable::sample_light) and
+/// [`light_pdf`](PdfHittable::light_pdf) are what next-event estimation takes: from a
+/// [`ShadingContext`] (a point and its surface's normal), a [`LightSample`] with the
+/// light's point, normal and distance, for a shadow ray
+/// ([`HitRecord::spawn_ray_to`]) that needs no epsilon. Their provided versions are built
+/// on the first two; a light that uses the context's normal (a
+/// [`LightTree`](crate::LightTree)) overrides them.
 pub trait PdfHittable: Hittable {
     /// The density, over solid angle at `origin`, with which
-    /// [`sample_direction`](PdfHittable::sample_direction) picks `direction`; 0 where the
-    /// direction misses the shape. Finite and never NaN.
+    /// [`sample_direction`](PdfHittable::sample_direction) picks `direction` (of any
+    /// length); 0 where the direction misses the shape. Finite and never NaN.
     fn pdf_value(&self, origin: DVec3, direction: DVec3) -> f64;
 
-    /// A direction from `origin` toward the shape, drawn from `u` in `[0, 1)^2`.
+    /// A unit direction from `origin` toward the shape, drawn from `u` in `[0, 1)^2`
+    /// (unit to within rounding, for every light hitkit has); the zero vector where there
+    /// is nothing to aim at (an empty list of lights).
     fn sample_direction(&self, origin: DVec3, u: DVec2) -> DVec3;
+
+    /// A point on the light seen from `at`, drawn from `u` in `[0, 1)^2`: the direction
+    /// toward it, its distance, the light's surface there and the direction's density
+    /// ([`light_pdf`](PdfHittable::light_pdf) from `at`). `None` where there is nothing to
+    /// sample (see [`LightSample::along`]).
+    ///
+    /// The provided one draws [`sample_direction`](PdfHittable::sample_direction) from
+    /// `at.point` and finds the light's surface along it with [`hit`](Hittable::hit).
+    fn sample_light(&self, at: &ShadingContext, u: DVec2) -> Option<LightSample> {
+        LightSample::along(self, at, self.sample_direction(at.point, u))
+    }
+
+    /// The density, over solid angle at `at.point`, with which
+    /// [`sample_light`](PdfHittable::sample_light) draws `direction` from `at`: what a
+    /// renderer weighs a direction its material drew by, in multiple importance sampling.
+    /// The provided one is [`pdf_value`](PdfHittable::pdf_value) from `at.point`.
+    fn light_pdf(&self, at: &ShadingContext, direction: DVec3) -> f64 {
+        self.pdf_value(at.point, direction)
+    }
 }
 
 /// Forwards both traits through a pointer to `T` (`T` is named by the caller).
@@ -142,6 +173,14 @@ macro_rules! forward_through {
             #[inline]
             fn sample_direction(&self, origin: DVec3, u: DVec2) -> DVec3 {
                 (**self).sample_direction(origin, u)
+            }
+            #[inline]
+            fn sample_light(&self, at: &ShadingContext, u: DVec2) -> Option<LightSample> {
+                (**self).sample_light(at, u)
+            }
+            #[inline]
+            fn light_pdf(&self, at: &ShadingContext, direction: DVec3) -> f64 {
+                (**self).light_pdf(at, direction)
             }
         }
     };

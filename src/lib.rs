@@ -1,49 +1,66 @@
 //! Ray-tracing geometry that stays exact where a scene gets large, small, grazing or
-//! degenerate.
+//! degenerate, for renderers that take it as a dependency: planes, quads with pluggable
+//! interiors, spheres, boxes, triangle meshes, instances, a BVH, and lights to sample, with
+//! bounce and shadow rays that need no epsilon. `no_std` + `alloc`, `f64` throughout.
 //!
 //! hitkit follows the quadrilateral chapter of *Ray Tracing: The Next Week* (a plane
 //! spanned by `q`, `u`, `v`; a hit reported as `(t, alpha, beta)`; an interior predicate
-//! that decides) and goes past it: no absolute epsilons, well-conditioned formulas, a box
-//! test that does not lose rays lying in a slab plane, and errors instead of NaN.
+//! that decides) and goes past it: no absolute epsilons, watertight edges, boxes that agree
+//! with their shapes, errors instead of NaN, and a contract (below) that says so exactly.
 //!
 //! ```
-//! use hitkit::glam::DVec3;
-//! use hitkit::{Disk, Hittable, Interval, Plane, Quad, Ray};
+//! use hitkit::glam::{DVec2, DVec3};
+//! use hitkit::{Disk, Hittable, Interval, PdfHittable, Quad, Ray, ShadingContext};
 //!
 //! # fn main() -> Result<(), hitkit::GeometryError> {
-//! let scene: Vec<Box<dyn Hittable>> = vec![
-//!     Box::new(Quad::new(DVec3::new(-1.0, -1.0, -5.0), DVec3::X * 2.0, DVec3::Y * 2.0)?),
-//!     Box::new(Quad::with_interior(DVec3::new(0.0, 0.0, -3.0), DVec3::X, DVec3::Y, Disk)?),
-//!     Box::new(Plane::new(DVec3::new(0.0, -2.0, 0.0), DVec3::Z, DVec3::X)?),
-//! ];
-//! let ray = Ray::new(DVec3::ZERO, DVec3::new(0.0, 0.0, -1.0));
-//! let hit = scene.hit(&ray, Interval::FORWARD).expect("the disk is in front");
-//! assert_eq!(hit.t, 3.0);
-//! assert_eq!(hit.normal, DVec3::Z); // faces against the ray
+//! let floor = Quad::new(DVec3::new(-5.0, 0.0, -5.0), DVec3::X * 10.0, DVec3::Z * 10.0)?;
+//! let lamp = Quad::with_interior(DVec3::new(0.0, 3.0, 0.0), DVec3::Z, DVec3::X, Disk)?;
+//! let scene: Vec<Box<dyn Hittable>> = vec![Box::new(floor), Box::new(lamp)];
+//!
+//! let hit = scene.hit(&Ray::new(DVec3::new(1.0, 2.0, 1.0), DVec3::NEG_Y), Interval::FORWARD);
+//! let hit = hit.expect("the floor is below");
+//! assert_eq!((hit.t, hit.normal), (2.0, DVec3::Y)); // the normal faces against the ray
+//!
+//! // A bounce leaves the floor from t = 0: no `t_min = 0.001`.
+//! let bounce = hit.spawn_ray(DVec3::new(0.0, 1.0, 1.0));
+//! assert!(!floor.occluded(&bounce, Interval::FORWARD));
+//!
+//! // A point on the lamp, and a shadow ray to it that finds neither end.
+//! let sample = lamp.sample_light(&ShadingContext::from(&hit), DVec2::new(0.3, 0.8)).unwrap();
+//! let (shadow, range) = hit.spawn_ray_to(&sample.record);
+//! assert!(!scene.occluded(&shadow, range) && sample.pdf > 0.0);
 //! # Ok(())
 //! # }
 //! ```
 //!
+//! # The guide
+//! - [`guide::shapes`]: planes, quads and their interiors, spheres, boxes; what a hit
+//!   reports; bad input.
+//! - [`guide::trees`]: the [`Bvh`], triangle meshes, instances and motion.
+//! - [`guide::updates`]: scenes that change: refits, inserts, removes, when to rebuild.
+//! - [`guide::lights`]: sampling lights, next-event estimation, many lights.
+//! - [`guide::own_shapes`]: your own shape, interior or light ([`custom`]).
+//!
 //! # Conventions
-//! - Vectors are [`glam::DVec3`] / [`glam::DVec2`]; everything is `f64`.
+//! - Vectors are [`glam::DVec3`] and [`glam::DVec2`] (hitkit re-exports `glam`); everything
+//!   is `f64`.
 //! - A [`HitRecord`]'s `normal` is unit length and faces against the ray; `front_face`
-//!   says whether the ray came from the side `u x v` points to.
+//!   says whether the ray came from the side the outward normal (`u x v` for a flat shape)
+//!   points to. `t` is in units of the ray's direction, which may have any length.
 //! - Points on a plane or quad are `q + alpha * u + beta * v`; interior predicates
 //!   ([`Parallelogram`], [`Triangle`], [`Disk`], [`Ring`], or your own) decide in
-//!   `(alpha, beta)` space and include their edges. The built-in ones decide by the region
-//!   where the ray's exact crossing can be ([`CrossingRegion`], [`Interior::meets`]), so
-//!   that shapes sharing an edge leave no crack and nothing beside a shape is hit.
-//! - A [`TriangleMesh`] shares its vertices between faces and decides by edge functions in
-//!   a frame of the ray (watertight by construction); its hits name the face
-//!   ([`HitRecord::primitive`]), and a [`Transformed`] with an id names the instance
-//!   ([`HitRecord::instance`]). [`Moving`] objects are where the ray's `time` puts them.
+//!   `(alpha, beta)` space and include their edges.
+//! - A light's `pdf_value` is a density over solid angle; the directions its samplers
+//!   return are unit vectors.
 //! - Constructors validate their input and return [`GeometryError`]; `hit` on a NaN,
 //!   infinite or zero-direction ray returns `None`. Nothing panics on any `f64` input.
 //!
 //! # The contract
 //! What hitkit promises, for every ray a renderer may trace (any direction, of any length
-//! `f64` holds, any origin, grazing or from far away) and every shape it may build (rotated, far from the origin,
-//! from `1e-6` to `1e6` in size); each clause is held by `tests/contract.rs`.
+//! `f64` holds, any origin, grazing or from far away) and every shape it may build
+//! (rotated, far from the origin, from `1e-6` to `1e6` in size). Each clause is held by
+//! tests whose inputs are built as renderers build them (`tests/contract.rs`,
+//! `tests/peer_suite.rs` with pbrt-v4's own shape tests, `tests/next_event.rs`).
 //!
 //! 1. **No false hits.** Every hit a planar shape reports lies within `2^-43 M / s^2` of the
 //!    exact shape, `M = |q|_inf + |u|_inf + |v|_inf` and `s` the sine of the angle between
@@ -61,12 +78,26 @@
 //!    depend on the range's upper end: a [`Bvh`] returns exactly what a loop over its
 //!    objects returns, on every ray from any distance.
 //! 4. **No NaN.** Nothing returned (hit record, box, density, direction, spawned ray) is
-//!    NaN or infinite, for any input; bad input is a [`GeometryError`] at construction, and
-//!    a ray that cannot be traced hits nothing.
+//!    NaN or infinite, for any input, subnormals, `f64::MAX`, infinities and NaN included:
+//!    bad input is a [`GeometryError`] at construction, a ray that cannot be traced hits
+//!    nothing, and `occluded` answers exactly as `hit(..).is_some()`.
+//! 5. **Spawned rays leave.** A ray from [`HitRecord::spawn_ray`], in any direction, never
+//!    finds the surface it leaves (pbrt-v4's "Reintersect" property), nor, from a convex
+//!    shape on its outer side, any part of that shape: a crossing counts only where its
+//!    `t` lies beyond `ray_t.min` whatever its rounding. A shadow ray from
+//!    [`HitRecord::spawn_ray_to`] finds neither the surface it leaves nor the light's
+//!    surface at its far end, and finds what lies between (but for occluders within `2^-46`
+//!    of the coordinates' magnitude of the light's surface).
+//! 6. **Every sample has a density.** Every direction `sample_direction` returns, for any
+//!    `u` in `[0, 1)^2` (corners included: a sampler's first point is often `(0, 0)`), has a
+//!    positive, finite `pdf_value`, wherever the light can be aimed at from the origin at
+//!    all; every [`LightSample`] has a positive, finite density.
 //!
 //! And speed does not depend on where a scene sits: a [`Bvh`]'s node boxes are relative to
 //! the scene's centre, so a scene at 1e9 costs the same tests per ray as at the origin (as
-//! long as its shapes are wider than the tolerance, `2^-48` of their coordinates).
+//! long as its shapes are wider than the tolerance, `2^-48` of their coordinates). What the
+//! contract costs in time is measured in the repository's `docs/performance.md` and
+//! `docs/accuracy.md`.
 //!
 //! # Flush-to-zero and denormals-are-zero
 //! Embree and many renderers turn on the CPU's flush-to-zero and denormals-are-zero modes
@@ -93,6 +124,7 @@
 //! | `approx` | no | `approx` 0.5's comparison traits for the value types |
 //! | `serde` | no | `Serialize` / `Deserialize` for the value types, and for `Plane`, `Quad`, `Sphere` as what builds them (through their constructors) |
 //! | `rand` | no | `RandomDirection`: sample a light with any `rand` 0.10 generator |
+//! | `rand09` | no | `RandomDirection09`: the same with a `rand` 0.9 generator |
 //! | `rayon` | no | `Bvh::new_parallel` and `TriangleMesh::new_parallel`: trees built on every core (the same trees); needs `std` |
 //!
 //! One of `std` and `libm` must be enabled.
@@ -111,50 +143,61 @@ extern crate alloc;
 
 mod aabb;
 mod bvh;
-mod cuboid;
 mod error;
+mod features;
+pub mod guide;
 mod hittable;
 mod instance;
-mod interior;
 mod interval;
 mod light;
 mod list;
 mod math;
 mod mesh;
-mod moving;
-mod plane;
-mod quad;
 mod ray;
 mod record;
-mod sphere;
-mod transform;
-
-#[cfg(feature = "approx")]
-mod impl_approx;
-#[cfg(feature = "serde")]
-mod impl_serde;
+mod shape;
 
 pub use glam;
 
 pub use aabb::Aabb;
 pub use bvh::{Bvh, TreeCost, Visits};
-pub use cuboid::Cuboid;
 pub use error::GeometryError;
 pub use hittable::{Hittable, PdfHittable};
-pub use interior::{Disk, Exact, Interior, Meets, Parallelogram, Ring, Triangle};
+pub use instance::{Moving, Transformed};
 pub use interval::Interval;
 #[cfg(feature = "rand")]
 #[cfg_attr(docsrs, doc(cfg(feature = "rand")))]
 pub use light::RandomDirection;
-pub use light::{Emission, LightTree, Mixture, Polygon, SampleInterior, Sampling, WithNormal};
+#[cfg(feature = "rand09")]
+#[cfg_attr(docsrs, doc(cfg(feature = "rand09")))]
+pub use light::RandomDirection09;
+pub use light::{
+    Emission, LightSample, LightTree, Mixture, SampleInterior, Sampling, ShadingContext,
+};
 pub use mesh::{Face, TriangleMesh};
-pub use moving::Moving;
-pub use plane::{CrossingRegion, Plane, PlaneHit};
-pub use quad::Quad;
 pub use ray::Ray;
-pub use record::{Found, HitRecord, MaterialId};
-pub use sphere::Sphere;
-pub use transform::Transformed;
+pub use record::{HitRecord, MaterialId};
+pub use shape::{
+    Cuboid, Disk, Exact, Interior, Parallelogram, Plane, PlaneHit, Quad, Ring, Sphere, Triangle,
+};
+
+// Crate-wide names for what `custom` exports.
+pub(crate) use light::Polygon;
+pub(crate) use record::Found;
+pub(crate) use shape::{CrossingRegion, Meets};
+
+/// What writing your own shape or interior takes beyond the traits at the root: the
+/// closest-hit search's [`Found`] (for [`Hittable::find`] and
+/// [`Hittable::record`]), the region where a ray's exact crossing of a plane can lie
+/// ([`CrossingRegion`]) and an interior's answer about it
+/// ([`Meets`], for [`Interior::meets`]), and the polygons with a
+/// solid-angle sampler ([`Polygon`], for
+/// [`SampleInterior::polygon`]). See the guide's [own shapes](guide::own_shapes).
+pub mod custom {
+    pub use crate::light::Polygon;
+    pub use crate::record::Found;
+    pub use crate::shape::{CrossingRegion, Meets};
+}
 
 /// The README's code blocks, run as doctests.
 #[cfg(doctest)]

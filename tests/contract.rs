@@ -727,7 +727,7 @@ fn a_point_region_meets_exactly_what_contains_accepts() {
     ];
     for _ in 0..20000 {
         let c = DVec2::new(3.0 * rng.next_f64() - 1.5, 3.0 * rng.next_f64() - 1.5);
-        let region = hitkit::CrossingRegion {
+        let region = hitkit::custom::CrossingRegion {
             center: c,
             along: DVec2::new(rng.next_f64(), rng.next_f64()),
             reach: 0.0,
@@ -737,7 +737,7 @@ fn a_point_region_meets_exactly_what_contains_accepts() {
             let inside = shape.contains(c.x, c.y);
             let meets = shape.meets(&region);
             // Away from the edge by more than the rounding of the predicates themselves.
-            if matches!(meets, hitkit::Meets::Outside) {
+            if matches!(meets, hitkit::custom::Meets::Outside) {
                 assert!(!inside || near_edge(c), "{c:?} is contained but missed");
             } else {
                 assert!(inside || near_edge(c), "{c:?} is not contained but met");
@@ -777,7 +777,7 @@ impl<S: Interior> Interior for Unnamed<S> {
     fn bounding_box(&self, plane: &Plane) -> Aabb {
         self.0.bounding_box(plane)
     }
-    fn meets(&self, region: &hitkit::CrossingRegion) -> hitkit::Meets {
+    fn meets(&self, region: &hitkit::custom::CrossingRegion) -> hitkit::custom::Meets {
         self.0.meets(region)
     }
 }

@@ -3,7 +3,7 @@
 //! size are accepted.
 
 use hitkit::glam::{DQuat, DVec2, DVec3};
-use hitkit::{Emission, LightTree, PdfHittable, Quad, Sphere, TriangleMesh};
+use hitkit::{Emission, LightTree, PdfHittable, Quad, ShadingContext, Sphere, TriangleMesh};
 use proptest::prelude::*;
 
 /// Whether every corner of a light's box lies strictly below the plane through `p` normal
@@ -83,21 +83,22 @@ proptest! {
             powers.push(power);
         }
         let tree = LightTree::new(built, &powers, &emission).unwrap();
-        let seen = tree.with_normal(n);
+        let at = ShadingContext::on_surface(p, n);
         let mut below = 0;
         for (i, light) in tree.lights().iter().enumerate() {
             if wholly_below(light.as_ref(), p, n) {
                 below += 1;
-                prop_assert_eq!(seen.probability(p, i), 0.0, "light {} of {}", i, specs.len());
+                prop_assert_eq!(tree.probability(&at, i), 0.0, "light {} of {}", i, specs.len());
             }
         }
-        let d = seen.sample_direction(p, DVec2::from(u));
-        if d != DVec3::ZERO {
-            prop_assert!(seen.pdf_value(p, d) > 0.0);
+        let sample = tree.sample_light(&at, DVec2::from(u));
+        if let Some(sample) = sample {
+            prop_assert!(sample.pdf > 0.0);
+            prop_assert_eq!(sample.pdf, tree.light_pdf(&at, sample.direction));
         }
         // Every light below: nothing to pick.
         if below == specs.len() {
-            prop_assert_eq!(d, DVec3::ZERO);
+            prop_assert_eq!(sample, None);
         }
     }
 }
@@ -113,13 +114,13 @@ fn two_panels_below_the_horizon_are_never_picked() {
         Box::new(Quad::new(DVec3::new(3.0, -1.0, 6.0), DVec3::Z * 0.2, DVec3::X * 0.2).unwrap()),
     ];
     let tree = LightTree::new(lights, &[1.0; 3], &[Emission::Everywhere, up, up]).unwrap();
-    let seen = tree.with_normal(DVec3::Y);
-    assert_eq!(seen.probability(DVec3::ZERO, 1), 0.0);
-    assert_eq!(seen.probability(DVec3::ZERO, 2), 0.0);
-    assert_eq!(seen.probability(DVec3::ZERO, 0), 1.0);
+    let up = ShadingContext::on_surface(DVec3::ZERO, DVec3::Y);
+    assert_eq!(tree.probability(&up, 1), 0.0);
+    assert_eq!(tree.probability(&up, 2), 0.0);
+    assert_eq!(tree.probability(&up, 0), 1.0);
     // Seen from a surface facing down, the sphere is below and the panels are not.
-    let down = tree.with_normal(DVec3::NEG_Y);
-    assert_eq!(down.probability(DVec3::ZERO, 0), 0.0);
+    let down = ShadingContext::on_surface(DVec3::ZERO, DVec3::NEG_Y);
+    assert_eq!(tree.probability(&down, 0), 0.0);
 }
 
 /// A single light whose bounding sphere reaches above the horizon while its box does not.
@@ -136,8 +137,9 @@ fn a_wide_flat_light_below_the_horizon_is_never_picked() {
         Box::new(Sphere::new(DVec3::new(0.0, 4.0, 0.0), 0.5).unwrap()),
     ];
     let tree = LightTree::new(lights, &[1.0, 1e-6], &[Emission::Everywhere; 2]).unwrap();
-    assert_eq!(tree.with_normal(DVec3::Y).probability(DVec3::ZERO, 0), 0.0);
-    assert_eq!(tree.with_normal(DVec3::Y).probability(DVec3::ZERO, 1), 1.0);
+    let up = ShadingContext::on_surface(DVec3::ZERO, DVec3::Y);
+    assert_eq!(tree.probability(&up, 0), 0.0);
+    assert_eq!(tree.probability(&up, 1), 1.0);
 }
 
 /// Every light below the horizon: the walk picks none, and every density is 0.
@@ -145,13 +147,10 @@ fn a_wide_flat_light_below_the_horizon_is_never_picked() {
 fn a_tree_wholly_below_the_horizon_picks_nothing() {
     let lights = vec![Sphere::new(DVec3::new(0.0, -3.0, 0.0), 1.0).unwrap()];
     let tree = LightTree::new(lights, &[1.0], &[Emission::Everywhere]).unwrap();
-    let seen = tree.with_normal(DVec3::Y);
-    assert_eq!(seen.probability(DVec3::ZERO, 0), 0.0);
-    assert_eq!(
-        seen.sample_direction(DVec3::ZERO, DVec2::new(0.3, 0.6)),
-        DVec3::ZERO
-    );
-    assert_eq!(seen.pdf_value(DVec3::ZERO, DVec3::NEG_Y), 0.0);
+    let up = ShadingContext::on_surface(DVec3::ZERO, DVec3::Y);
+    assert_eq!(tree.probability(&up, 0), 0.0);
+    assert_eq!(tree.sample_light(&up, DVec2::new(0.3, 0.6)), None);
+    assert_eq!(tree.light_pdf(&up, DVec3::NEG_Y), 0.0);
     // Without the normal, it is picked.
     assert!(tree.pdf_value(DVec3::ZERO, DVec3::NEG_Y) > 0.0);
 }
@@ -176,15 +175,15 @@ fn emission_normals_of_any_finite_length_are_accepted() {
             let tree = LightTree::new(vec![panel(), panel()], &[1.0, 2.0], &[emission; 2])
                 .unwrap_or_else(|e| panic!("{length:e}: {e}"));
             assert_eq!(
-                tree.probability(p, None, 1),
-                unit.probability(p, None, 1),
+                tree.probability(&ShadingContext::at(p), 1),
+                unit.probability(&ShadingContext::at(p), 1),
                 "{length:e}"
             );
         }
         // A shading normal of that length too.
         assert_eq!(
-            unit.with_normal(DVec3::Y * length).probability(p, 1),
-            unit.with_normal(DVec3::Y).probability(p, 1),
+            unit.probability(&ShadingContext::on_surface(p, DVec3::Y * length), 1),
+            unit.probability(&ShadingContext::on_surface(p, DVec3::Y), 1),
             "{length:e}"
         );
     }
@@ -201,7 +200,7 @@ fn emitters_of_any_finite_size_make_a_light_tree() {
                 .unwrap_or_else(|e| panic!("{size:e}: {e}"));
             // From above, and (one-sided: the side the normal faces) from below.
             let from = DVec3::new(0.25, 1.0, 0.25) * size;
-            assert_eq!(tree.probability(from, None, 0), 1.0);
+            assert_eq!(tree.probability(&ShadingContext::at(from), 0), 1.0);
             let d = tree.sample_direction(from, DVec2::new(0.3, 0.4));
             assert!(tree.pdf_value(from, d) > 0.0, "{size:e}");
         }

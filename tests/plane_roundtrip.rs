@@ -41,7 +41,8 @@ mod support;
 
 use hitkit::glam::{DQuat, DVec2, DVec3};
 use hitkit::{
-    CrossingRegion, Disk, Hittable, Interval, Parallelogram, Plane, Quad, Ray, Ring, Triangle,
+    Disk, Hittable, Interval, Parallelogram, Plane, Quad, Ray, Ring, Triangle,
+    custom::CrossingRegion,
 };
 use proptest::prelude::*;
 use support::gamma;

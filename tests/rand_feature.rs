@@ -36,3 +36,26 @@ fn random_direction_is_sample_direction_of_the_generators_numbers() {
     // Every light sees the origin: nearly every sample aims at one.
     assert!(hits > 990, "{hits}");
 }
+
+/// The `rand09` feature: the same with a `rand` 0.9 generator, bit for bit as
+/// `sample_direction` of its numbers.
+#[cfg(feature = "rand09")]
+#[test]
+fn a_rand_09_generator_samples_the_same_way() {
+    use hitkit::RandomDirection09;
+    use rand09::{RngCore, SeedableRng};
+    let lights = support::four_lights();
+    let origin = DVec3::new(0.1, 0.2, -0.3);
+    let mut rng = rand09::rngs::SmallRng::seed_from_u64(11);
+    let mut twin = rng.clone();
+    for _ in 0..1000 {
+        let (direction, pdf) = RandomDirection09::random_direction(&lights, origin, &mut rng);
+        let scale = 1.0 / (1u64 << 53) as f64;
+        let u = DVec2::new(
+            (twin.next_u64() >> 11) as f64 * scale,
+            (twin.next_u64() >> 11) as f64 * scale,
+        );
+        assert_eq!(direction, lights.sample_direction(origin, u));
+        assert_eq!(pdf, lights.pdf_value(origin, direction));
+    }
+}

@@ -15,7 +15,11 @@ use support::assert_same_mean;
 
 /// A short hall (40 rows: 160 panels and 20 sconces), small, for a debug build.
 fn mean(pick: Pick, seed: u64) -> ((f64, f64), f64) {
-    let scene = hall_scene(32, 40, pick);
+    mean_of(hall_scene(32, 40, pick), seed)
+}
+
+/// The mean luminance of `scene` and its standard error, and its mean per-pixel variance.
+fn mean_of<W: hitkit::Hittable>(scene: common::Scene<W>, seed: u64) -> ((f64, f64), f64) {
     let settings = Settings {
         samples: 96,
         max_depth: 8,
@@ -27,6 +31,24 @@ fn mean(pick: Pick, seed: u64) -> ((f64, f64), f64) {
     let image = render(&scene, &settings, scene.effects()).unwrap();
     let variance = image.variance.iter().sum::<f64>() / image.variance.len() as f64;
     (image.mean_luminance(), variance)
+}
+
+/// Next-event estimation with multiple importance sampling (a shadow ray to a point on a
+/// light, and a cosine-weighted bounce, weighed by the power heuristic) converges to the
+/// mean of the book's one-sample mixture of the lights' and the material's densities,
+/// which the hall was rendered with before: the shadow rays neither lose light (an end
+/// found again) nor gain it (an occluder missed), and the weights sum to 1.
+#[test]
+fn next_event_estimation_keeps_the_mean_of_the_books_mixture() {
+    let (next_event, _) = mean_of(hall_scene(32, 40, Pick::Tree), 4);
+    let mut mixture = hall_scene(32, 40, Pick::Tree);
+    mixture.next_event = false;
+    let (mixture, _) = mean_of(mixture, 5);
+    assert_same_mean(
+        next_event,
+        mixture,
+        "next-event estimation against the mixture",
+    );
 }
 
 #[test]

@@ -163,14 +163,15 @@ fn solid_angle_sampling_agrees_with_area_sampling_with_less_variance_near_the_li
 /// does not is sampled by area.
 #[test]
 fn the_polygon_a_shape_names_decides_its_sampler() {
-    use hitkit::{Exact, Interior, Meets, Parallelogram, Polygon, SampleInterior};
+    use hitkit::custom::{CrossingRegion, Meets, Polygon};
+    use hitkit::{Exact, Interior, Parallelogram, SampleInterior};
 
     struct Wrapped<S>(S, bool);
     impl<S: Interior> Interior for Wrapped<S> {
         fn contains(&self, alpha: f64, beta: f64) -> bool {
             self.0.contains(alpha, beta)
         }
-        fn meets(&self, region: &hitkit::CrossingRegion) -> Meets {
+        fn meets(&self, region: &CrossingRegion) -> Meets {
             self.0.meets(region)
         }
     }

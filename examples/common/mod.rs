@@ -13,8 +13,8 @@ pub mod medium;
 pub mod render;
 pub mod scenes;
 
-use hitkit::glam::{DVec2, DVec3};
-use hitkit::{Hittable, LightTree, Mixture, PdfHittable};
+use hitkit::glam::DVec3;
+use hitkit::{Hittable, PdfHittable};
 
 pub use camera::CameraSettings;
 pub use material::Material;
@@ -68,66 +68,21 @@ impl Effects {
     };
 }
 
-/// The lights a render aims at, and how it picks one: what a renderer swaps to trade one
-/// of hitkit's samplers for another.
-pub enum Lights {
-    /// Each equally often: hitkit's uniform mixture over a list.
-    Uniform(Vec<Box<dyn PdfHittable>>),
-    /// By fixed weights (their power, say): a `Mixture`.
-    Weighted(Mixture<Box<dyn PdfHittable>>),
-    /// By their importance from the shading point and normal: a `LightTree`.
-    Tree(LightTree<Box<dyn PdfHittable>>),
-}
-
-impl Default for Lights {
-    fn default() -> Self {
-        Lights::Uniform(Vec::new())
-    }
-}
-
-impl Lights {
-    /// The lights themselves, in the order given.
-    pub fn list(&self) -> &[Box<dyn PdfHittable>] {
-        match self {
-            Lights::Uniform(lights) => lights,
-            Lights::Weighted(mixture) => mixture.lights(),
-            Lights::Tree(tree) => tree.lights(),
-        }
-    }
-
-    pub fn is_empty(&self) -> bool {
-        self.list().is_empty()
-    }
-
-    /// A direction toward a light from `point` on a surface facing `normal`.
-    #[inline]
-    pub fn sample(&self, point: DVec3, normal: DVec3, u: DVec2) -> DVec3 {
-        match self {
-            Lights::Uniform(lights) => lights.as_slice().sample_direction(point, u),
-            Lights::Weighted(mixture) => mixture.sample_direction(point, u),
-            Lights::Tree(tree) => tree.with_normal(normal).sample_direction(point, u),
-        }
-    }
-
-    /// The density of [`Lights::sample`]'s directions.
-    #[inline]
-    pub fn pdf(&self, point: DVec3, normal: DVec3, direction: DVec3) -> f64 {
-        match self {
-            Lights::Uniform(lights) => lights.as_slice().pdf_value(point, direction),
-            Lights::Weighted(mixture) => mixture.pdf_value(point, direction),
-            Lights::Tree(tree) => tree.with_normal(normal).pdf_value(point, direction),
-        }
-    }
-}
-
 /// A scene: what to trace, what it is made of, its lights, its background and its camera.
 pub struct Scene<W> {
     pub world: W,
     /// Indexed by the hit record's `MaterialId`.
     pub materials: Vec<Material>,
-    /// Shapes to sample directions toward (usually the emissive ones), and how to pick
-    /// among them.
-    pub lights: Lights,
+    /// The shapes to sample directions toward (the emissive ones), and how to pick among
+    /// them: a list (uniformly), a `Mixture` (by weight) or a `LightTree` (by importance
+    /// from the shading point and normal).
+    pub lights: Option<Box<dyn PdfHittable>>,
+    /// How a diffuse hit gathers light from `lights`: by next-event estimation (a shadow
+    /// ray to a sampled point on a light, and a material-sampled bounce, weighed by
+    /// multiple importance sampling: for many or small lights), or, where false, as the
+    /// book does (one direction from an even mixture of the lights' and the material's
+    /// densities).
+    pub next_event: bool,
     pub background: Background,
     pub camera: CameraSettings,
 }
@@ -141,7 +96,7 @@ impl<W: Hittable> Scene<W> {
                 .materials
                 .iter()
                 .any(|m| matches!(m, Material::Light(_))),
-            light_sampling: !self.lights.is_empty(),
+            light_sampling: self.lights.is_some(),
             defocus: self.camera.defocus_angle > 0.0,
         }
     }

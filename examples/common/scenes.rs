@@ -3,7 +3,7 @@
 use hitkit::glam::DVec3;
 use hitkit::{MaterialId, Quad};
 
-use super::{Background, CameraSettings, Color, Lights, Material, Scene};
+use super::{Background, CameraSettings, Color, Material, Scene};
 
 /// The quads scene's background: the book's `cam.background`.
 pub const QUADS_BACKGROUND: Color = Color::new(0.70, 0.80, 1.00);
@@ -35,7 +35,8 @@ pub fn quads_scene(width: usize) -> Scene<Vec<Quad>> {
     Scene {
         world,
         materials,
-        lights: Lights::default(),
+        lights: None,
+        next_event: false,
         background: Background::Solid(QUADS_BACKGROUND),
         camera: CameraSettings {
             width,
@@ -105,7 +106,8 @@ pub fn shapes_scene(width: usize) -> Scene<Vec<Box<dyn hitkit::Hittable>>> {
     Scene {
         world,
         materials,
-        lights: Lights::default(),
+        lights: None,
+        next_event: false,
         background: Background::Sky,
         camera: CameraSettings {
             width,
@@ -234,7 +236,8 @@ pub fn cornell_scene(
     Scene {
         world,
         materials,
-        lights: Lights::Uniform(lights),
+        lights: Some(Box::new(lights)),
+        next_event: false,
         background: Background::Solid(Color::ZERO),
         camera: cornell_camera(width),
     }
@@ -261,7 +264,8 @@ pub fn cornell_book_scene(width: usize) -> Scene<Vec<Box<dyn hitkit::Hittable>>>
     Scene {
         world,
         materials,
-        lights: Lights::Uniform(lights),
+        lights: Some(Box::new(lights)),
+        next_event: false,
         background: Background::Solid(Color::ZERO),
         camera: cornell_camera(width),
     }
@@ -479,7 +483,8 @@ pub fn mesh_scene(
     Scene {
         world,
         materials,
-        lights: Lights::default(),
+        lights: None,
+        next_event: false,
         background: Background::Sky,
         camera: CameraSettings {
             width,
@@ -609,18 +614,19 @@ pub fn hall_scene(
             }
         }
     }
-    let lights = match pick {
-        Pick::Uniform => Lights::Uniform(lights),
-        Pick::Power => Lights::Weighted(Mixture::new(lights, &powers).expect("positive powers")),
-        Pick::Tree => Lights::Tree(
-            LightTree::new(lights, &powers, &emission).expect("valid lights and powers"),
-        ),
+    let lights: Box<dyn hitkit::PdfHittable> = match pick {
+        Pick::Uniform => Box::new(lights),
+        Pick::Power => Box::new(Mixture::new(lights, &powers).expect("positive powers")),
+        Pick::Tree => {
+            Box::new(LightTree::new(lights, &powers, &emission).expect("valid lights and powers"))
+        }
     };
     let height = (width * 9 / 16).max(1);
     Scene {
         world: hitkit::Bvh::new(world),
         materials,
-        lights,
+        lights: Some(lights),
+        next_event: true,
         background: Background::Solid(Color::ZERO),
         camera: CameraSettings {
             width,
@@ -641,17 +647,17 @@ pub fn hall_scene(
 pub fn cornell_pick(width: usize, pick: Pick) -> Scene<Vec<Box<dyn hitkit::Hittable>>> {
     use hitkit::{Emission, LightTree, Mixture};
     let mut scene = cornell_scene(width, hitkit::Sampling::Area);
-    let lights = match std::mem::take(&mut scene.lights) {
-        Lights::Uniform(lights) => lights,
-        _ => unreachable!("the Cornell box lists its lamp"),
-    };
-    scene.lights = match pick {
-        Pick::Uniform => Lights::Uniform(lights),
-        Pick::Power => Lights::Weighted(Mixture::new(lights, &[1.0]).expect("one light")),
+    let lamp = cornell_walls().2.with_sampling(hitkit::Sampling::Area);
+    let lights = vec![lamp];
+    scene.lights = Some(match pick {
+        Pick::Uniform => Box::new(lights),
+        Pick::Power => Box::new(Mixture::new(lights, &[1.0]).expect("one light")),
         // The book's lamp faces down.
-        Pick::Tree => Lights::Tree(
+        Pick::Tree => Box::new(
             LightTree::new(lights, &[1.0], &[Emission::OneSide(-DVec3::Y)]).expect("one light"),
         ),
-    };
+    });
+    // As the hall is rendered, so that the comparison weighs the picks alone.
+    scene.next_event = true;
     scene
 }

@@ -8,9 +8,10 @@ use alloc::vec::Vec;
 
 use glam::{DVec3, Vec4};
 
-use super::{Bounds, Bvh, MAX_DEPTH, Node, Tree, WIDTH};
-use crate::math::Dd;
-use crate::{Aabb, Hittable};
+use super::collapse::{Child, Pair, collapse, pair};
+use super::node::{Node, above, below, cover};
+use super::{MAX_DEPTH, Tree, WIDTH};
+use crate::Aabb;
 
 /// Centroid bins per axis.
 const BINS: usize = 16;
@@ -24,9 +25,9 @@ const MEDIAN_FROM_DEPTH: usize = MAX_DEPTH - 33;
 
 /// A box in `f32`, as SIMD lanes `x, y, z, w` (`w` unused by the box).
 #[derive(Clone, Copy)]
-struct Box3 {
-    min: Vec4,
-    max: Vec4,
+pub(super) struct Box3 {
+    pub(super) min: Vec4,
+    pub(super) max: Vec4,
 }
 
 impl Box3 {
@@ -43,7 +44,7 @@ impl Box3 {
 
     /// Half the surface area (only ratios of areas matter); 0 for an empty box.
     #[inline]
-    fn half_area(&self) -> f64 {
+    pub(super) fn half_area(&self) -> f64 {
         let d = (self.max - self.min).max(Vec4::ZERO);
         let (x, y, z) = (f64::from(d.x), f64::from(d.y), f64::from(d.z));
         x * y + y * z + z * x
@@ -73,55 +74,6 @@ impl Prim {
     }
 }
 
-/// Two sibling nodes of the binary tree the SAH build makes, before [`collapse`] turns it
-/// into [`Node`]s of four: their boxes, and for each either two children (`count == 0`,
-/// `index` the pair that holds them) or a leaf (`count` objects from `index`).
-#[derive(Clone, Copy)]
-struct Pair {
-    min: [[f32; 2]; 3],
-    max: [[f32; 2]; 3],
-    index: [u32; 2],
-    count: [u32; 2],
-}
-
-impl Pair {
-    /// Child `k` (0 or 1).
-    fn child(&self, k: usize) -> Child {
-        let corner = |c: &[[f32; 2]; 3]| Vec4::new(c[0][k], c[1][k], c[2][k], 0.0);
-        Child {
-            bounds: Box3 {
-                min: corner(&self.min),
-                max: corner(&self.max),
-            },
-            index: self.index[k],
-            count: self.count[k],
-        }
-    }
-}
-
-/// A node as the build returns it, before it is written into its parent's pair.
-#[derive(Clone, Copy)]
-struct Child {
-    bounds: Box3,
-    index: u32,
-    count: u32,
-}
-
-pub(super) fn build<T: Hittable>(mut objects: Vec<T>, parallel: bool) -> Bvh<T> {
-    let boxes: Vec<Aabb> = objects.iter().map(Hittable::bounding_box).collect();
-    let (tree, bbox) = Tree::build(boxes.len(), |i| boxes[i], Shape::OBJECTS, parallel);
-    drop(boxes);
-    permute(&mut objects, &tree.order);
-    let built_cost = tree.sah_cost();
-    Bvh {
-        objects,
-        tree,
-        bbox,
-        built_cost,
-        links: super::update::Links::default(),
-    }
-}
-
 /// How the surface area heuristic weighs a node against its objects.
 #[derive(Clone, Copy)]
 pub(crate) struct Shape {
@@ -143,7 +95,7 @@ impl Tree {
     /// The tree over `count` objects whose boxes `box_of` gives (called twice per object),
     /// and the union of all the boxes; `parallel` builds large subtrees side by side (with
     /// the `rayon` feature; the same tree). (Tried: reinsertion, `Bvh::optimize`, right
-    /// after the build, as obvhs's medium preset does: the cost 1% lower, rays no faster.)
+    /// after the build, as obvhs's medium preset does: a lower cost, rays no faster.)
     ///
     /// # Panics
     /// If `count` exceeds `u32::MAX`.
@@ -249,109 +201,6 @@ fn rounding(nodes: &[Node], origin: DVec3) -> ([f64; 3], bool) {
         }
     }
     (rounding, compact)
-}
-
-/// Grows `rounding` and `compact` (as [`rounding`] gives them) to cover the finite bounds
-/// of a box about `origin`. How far `origin + bound` rounds is found bound by bound
-/// (exactly, by two-sum): mostly not at all, since [`below`] and [`above`] pick offsets
-/// whose sum lands on the box's own coordinates; but an ulp of the origin where it cannot
-/// (about 1e-4 at 1e12), which a bound from the magnitudes alone would charge every node.
-pub(super) fn cover(
-    rounding: &mut [f64; 3],
-    compact: &mut bool,
-    origin: DVec3,
-    (min, max): &Bounds,
-) {
-    for a in 0..3 {
-        for f in [min[a], max[a]].into_iter().filter(|f| f.is_finite()) {
-            *compact &= f64::from(f).abs() <= (1u64 << 60) as f64;
-            let error = Dd::diff(origin[a], -f64::from(f)).lo.abs();
-            rounding[a] = f64::max(rounding[a], error);
-        }
-    }
-}
-
-/// `b` as offsets from `origin`, rounded outward by [`below`] and [`above`]; `None` where
-/// `b` is not bounded or an offset is past `f32`'s range.
-pub(super) fn offsets(b: &Aabb, origin: DVec3) -> Option<Bounds> {
-    if !b.is_bounded() {
-        return None;
-    }
-    let min = [0, 1, 2].map(|a| below(b.min()[a], origin[a]));
-    let max = [0, 1, 2].map(|a| above(b.max()[a], origin[a]));
-    min.iter()
-        .chain(&max)
-        .all(|f| f.is_finite())
-        .then_some((min, max))
-}
-
-/// The binary tree of `pairs` under `root` as nodes of up to four children, appended to
-/// `nodes` parents first: each node takes its two children, then, while it has a free
-/// lane, opens the inner child of largest surface area (the one a ray most often enters)
-/// in place of it. Lanes keep the binary tree's left-to-right order, so that a walk of the
-/// nodes, lane by lane, depth first, meets the leaves in the objects' order. A root that
-/// is a leaf becomes a node of one child. Returns the levels of nodes.
-fn collapse(pairs: &[Pair], root: Child, nodes: &mut Vec<Node>) -> usize {
-    let slot = nodes.len();
-    nodes.push(Node {
-        bounds: [
-            [f32::INFINITY; WIDTH],
-            [f32::INFINITY; WIDTH],
-            [f32::INFINITY; WIDTH],
-            [f32::NEG_INFINITY; WIDTH],
-            [f32::NEG_INFINITY; WIDTH],
-            [f32::NEG_INFINITY; WIDTH],
-        ],
-        index: [0; WIDTH],
-        count: [0; WIDTH],
-    });
-    let mut lanes = [root; WIDTH];
-    let mut used = 1;
-    if root.count == 0 {
-        let pair = &pairs[root.index as usize];
-        (lanes[0], lanes[1], used) = (pair.child(0), pair.child(1), 2);
-        while used < WIDTH {
-            let widest = (0..used).filter(|&k| lanes[k].count == 0).max_by(|&a, &b| {
-                lanes[a]
-                    .bounds
-                    .half_area()
-                    .total_cmp(&lanes[b].bounds.half_area())
-            });
-            let Some(k) = widest else { break };
-            // Its two children take its place, in order, so that the lanes stay in the
-            // binary tree's left-to-right order (and their leaves in the objects' order:
-            // what a refit relies on to visit the objects in order).
-            let pair = &pairs[lanes[k].index as usize];
-            lanes.copy_within(k + 1..used, k + 2);
-            (lanes[k], lanes[k + 1]) = (pair.child(0), pair.child(1));
-            used += 1;
-        }
-    }
-    let mut below = 0;
-    for (k, &child) in lanes[..used].iter().enumerate() {
-        let mut lane = child;
-        if lane.count == 0 {
-            lane.index = nodes.len() as u32;
-            below = below.max(collapse(pairs, child, nodes));
-        }
-        let node = &mut nodes[slot];
-        for axis in 0..3 {
-            node.bounds[axis][k] = lane.bounds.min[axis];
-            node.bounds[3 + axis][k] = lane.bounds.max[axis];
-        }
-        node.index[k] = lane.index;
-        node.count[k] = lane.count;
-    }
-    below + 1
-}
-
-fn pair(a: Child, b: Child) -> Pair {
-    Pair {
-        min: [0, 1, 2].map(|axis| [a.bounds.min[axis], b.bounds.min[axis]]),
-        max: [0, 1, 2].map(|axis| [a.bounds.max[axis], b.bounds.max[axis]]),
-        index: [a.index, b.index],
-        count: [a.count, b.count],
-    }
 }
 
 /// The box of some objects and the box of their (doubled) centroids.
@@ -660,7 +509,7 @@ fn partition(prims: &mut [Prim], left: impl Fn(&Prim) -> bool) -> usize {
 
 /// Reorders `objects` in place so that position `i` holds the object that was at
 /// `order[i]`, following each cycle of the permutation once.
-fn permute<T>(objects: &mut [T], order: &[u32]) {
+pub(super) fn permute<T>(objects: &mut [T], order: &[u32]) {
     let mut done = vec![false; objects.len()];
     for start in 0..objects.len() {
         let mut at = start;
@@ -672,138 +521,6 @@ fn permute<T>(objects: &mut [T], order: &[u32]) {
             }
             objects.swap(at, from);
             at = from;
-        }
-    }
-}
-
-/// An `f32` offset `f` from `origin` whose world coordinate, as traversal computes it
-/// (`origin + f` in `f64`, see `traverse::entries`), is at or below `x`: a node box stored
-/// this way still contains the `f64` box it was built from, exactly. Infinite when the
-/// offset is past `f32`'s range (the object then stays out of the tree).
-///
-/// The `f32` at or below `x - origin` (as `f64` rounds it) where its sum with `origin`
-/// lands at or below `x`, as it mostly does (often on `x` itself); else its neighbour
-/// below, which always does: the rounded difference is within half an `f64` ulp of the
-/// exact one, and an `f32` step is wider than that at any magnitude, so the exact sum is
-/// below `x`, and rounding it to `f64` cannot pass `x`. Branch-free (which of the two it
-/// is, is a coin toss where the origin's bits are not round). Never a subnormal: one is
-/// taken down to zero or to the largest negative normal, so that no node holds a bound
-/// that traversal would compute with slowly, or read as zero (moved the wrong way) with
-/// the CPU's denormals-are-zero mode on.
-#[inline]
-pub(super) fn below(x: f64, origin: f64) -> f32 {
-    let f = round_down(x - origin);
-    let f = if origin + f64::from(f) <= x {
-        f
-    } else {
-        step_down(f)
-    };
-    if f.is_subnormal() {
-        if f > 0.0 { 0.0 } else { -f32::MIN_POSITIVE }
-    } else {
-        f
-    }
-}
-
-/// As [`below`], at or above `x`.
-pub(super) fn above(x: f64, origin: f64) -> f32 {
-    -below(-x, -origin)
-}
-
-/// The largest `f32` at or below `x` (NaN for NaN), without a branch: rounded to nearest,
-/// then, where that went up, its [`step_down`].
-#[inline]
-fn round_down(x: f64) -> f32 {
-    let f = x as f32;
-    if f64::from(f) > x { step_down(f) } else { f }
-}
-
-/// The next `f32` toward `-inf` of a non-NaN `f` that is not `-inf`: one step of its bits
-/// (toward zero for a positive, away from it for a negative, `-0.0` to the smallest
-/// negative subnormal, `+inf` to `f32::MAX`).
-#[inline]
-fn step_down(f: f32) -> f32 {
-    let bits = f.to_bits() as i32;
-    f32::from_bits(bits.wrapping_sub(2 * (bits >> 31) + 1) as u32)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::round_down;
-    use proptest::prelude::*;
-
-    /// The reference: the largest `f32` at or below `x`, by `next_down`.
-    fn reference(x: f64) -> f32 {
-        let f = x as f32;
-        if f64::from(f) > x { f.next_down() } else { f }
-    }
-
-    #[test]
-    fn round_down_at_the_edges() {
-        let tiny = f64::from(f32::from_bits(1));
-        for x in [
-            0.0,
-            -0.0,
-            tiny,
-            -tiny,
-            0.5 * tiny,
-            -0.5 * tiny,
-            1e-300,
-            -1e-300,
-            1.0,
-            -1.0,
-            f64::from(f32::MAX),
-            -f64::from(f32::MAX),
-            3.5e38,
-            -3.5e38,
-            1e300,
-            -1e300,
-            f64::INFINITY,
-            f64::NEG_INFINITY,
-        ] {
-            assert_eq!(round_down(x).to_bits(), reference(x).to_bits(), "{x:e}");
-        }
-        assert!(round_down(f64::NAN).is_nan());
-    }
-
-    proptest! {
-        /// `below` and `above` hold `x` as traversal computes the bound (`origin + f` in
-        /// `f64`), for coordinates and origins of every magnitude, and are tight: at most
-        /// two `f32` steps from the difference rounded outward.
-        #[test]
-        fn offsets_hold_the_coordinate_and_are_tight(
-            x in prop_oneof![any::<f64>(), -1e13f64..1e13, -1.0f64..1.0, -1e-37f64..1e-37],
-            near in prop_oneof![Just(0.0), -1e-3f64..1e-3, -1e6f64..1e6, -1e-38f64..1e-38],
-        ) {
-            prop_assume!(x.is_finite());
-            let origin = x + near;
-            prop_assume!(origin.is_finite());
-            let (lo, hi) = (super::below(x, origin), super::above(x, origin));
-            prop_assert!(!lo.is_subnormal() && !hi.is_subnormal());
-            if lo.is_finite() {
-                prop_assert!(origin + f64::from(lo) <= x);
-                // (Or a subnormal taken down to zero or to the largest negative normal.)
-                prop_assert!(
-                    lo >= super::step_down(super::step_down(round_down(x - origin)))
-                        || lo == 0.0
-                        || lo == -f32::MIN_POSITIVE
-                );
-            }
-            if hi.is_finite() {
-                prop_assert!(origin + f64::from(hi) >= x);
-                prop_assert!(
-                    -hi >= super::step_down(super::step_down(round_down(origin - x)))
-                        || hi == 0.0
-                        || hi == f32::MIN_POSITIVE
-                );
-            }
-        }
-
-        #[test]
-        fn round_down_is_the_largest_f32_at_or_below(bits in any::<u64>()) {
-            let x = f64::from_bits(bits);
-            prop_assume!(!x.is_nan());
-            prop_assert_eq!(round_down(x).to_bits(), reference(x).to_bits());
         }
     }
 }

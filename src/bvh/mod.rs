@@ -2,7 +2,11 @@
 //! traversed front to back without recursion or allocation.
 
 mod build;
+mod collapse;
+mod insert;
+mod node;
 mod refit;
+mod reinsert;
 mod traverse;
 mod update;
 
@@ -10,6 +14,8 @@ pub(crate) use build::Shape;
 pub(crate) use traverse::Tally;
 
 use alloc::vec::Vec;
+
+use node::Node;
 
 use glam::DVec3;
 
@@ -21,43 +27,6 @@ const MAX_DEPTH: usize = 64;
 
 /// Children per node.
 const WIDTH: usize = 4;
-
-/// A node: the boxes of up to four children, tested together in SIMD lanes, in two
-/// 64-byte cache lines. The boxes are `f32`, relative to the tree's `origin` (rounded
-/// outward, so they still hold everything they must, and as precise at 1e9 from the
-/// world's origin as at it), bound by bound (`bounds[axis]` the lower bounds along
-/// `axis`, `bounds[3 + axis]` the upper), so that a ray picks its near and far bound per
-/// axis once. For each child either a node (`count == 0`, `index` the node) or a leaf
-/// (`count` objects from `index`); an unused lane holds an empty box, which no ray enters.
-/// The root is node 0.
-#[derive(Clone, Copy, Debug)]
-#[repr(C, align(64))]
-struct Node {
-    bounds: [[f32; WIDTH]; 6],
-    index: [u32; WIDTH],
-    count: [u32; WIDTH],
-}
-
-/// A lane's box as a node holds it: lower and upper offsets from the tree's origin.
-type Bounds = ([f32; 3], [f32; 3]);
-
-impl Node {
-    /// Lane `k`'s box.
-    #[inline]
-    fn lane(&self, k: usize) -> Bounds {
-        (
-            [0, 1, 2].map(|a| self.bounds[a][k]),
-            [0, 1, 2].map(|a| self.bounds[3 + a][k]),
-        )
-    }
-}
-
-/// Half the surface area of a box (0 if it is empty), in `f64`.
-fn half_area((min, max): &Bounds) -> f64 {
-    let d = DVec3::from_array([0, 1, 2].map(|a| f64::from(max[a]) - f64::from(min[a])))
-        .max(DVec3::ZERO);
-    d.x * d.y + d.y * d.z + d.z * d.x
-}
 
 /// A bounding volume hierarchy: the closest hit (or any hit) among many objects without
 /// testing them all.
@@ -184,13 +153,29 @@ impl Tree {
 }
 
 impl<T: Hittable> Bvh<T> {
-    /// Builds the hierarchy (binned SAH; see the crate's README for build times).
+    /// The tree over `objects`, built on every core where `parallel`.
+    pub(super) fn built(mut objects: Vec<T>, parallel: bool) -> Self {
+        let boxes: Vec<Aabb> = objects.iter().map(Hittable::bounding_box).collect();
+        let (tree, bbox) = Tree::build(boxes.len(), |i| boxes[i], Shape::OBJECTS, parallel);
+        drop(boxes);
+        build::permute(&mut objects, &tree.order);
+        let built_cost = tree.sah_cost();
+        Bvh {
+            objects,
+            tree,
+            bbox,
+            built_cost,
+            links: update::Links::default(),
+        }
+    }
+
+    /// Builds the hierarchy (binned SAH; `docs/performance.md` in the repository has build times).
     ///
     /// # Panics
     /// If there are more than `u32::MAX` objects.
     #[must_use]
     pub fn new(objects: Vec<T>) -> Self {
-        build::build(objects, false)
+        Self::built(objects, false)
     }
 
     /// [`Bvh::new`] with large subtrees built side by side on every core: the same tree.
@@ -201,7 +186,7 @@ impl<T: Hittable> Bvh<T> {
     #[cfg_attr(docsrs, doc(cfg(feature = "rayon")))]
     #[must_use]
     pub fn new_parallel(objects: Vec<T>) -> Self {
-        build::build(objects, true)
+        Self::built(objects, true)
     }
 
     /// The number of objects.

@@ -3,8 +3,8 @@
 
 use glam::DVec3;
 
-use super::build::{cover, offsets};
-use super::{Bounds, Node, Tree, WIDTH, half_area};
+use super::node::{Bounds, Node, cover, half_area, offsets};
+use super::{Tree, WIDTH};
 use crate::Aabb;
 
 impl Tree {

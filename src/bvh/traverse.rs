@@ -4,7 +4,8 @@
 //! tree allow it and in `f64` otherwise ([`entries`]); both are conservative against the
 //! crate's one box test, so that a node never misses a ray its shapes' boxes take.
 
-use super::{Bvh, MAX_DEPTH, Node, Tree, Visits, WIDTH};
+use super::node::Node;
+use super::{Bvh, MAX_DEPTH, Tree, Visits, WIDTH};
 use glam::{DVec3, Vec3, Vec4};
 
 use crate::aabb::{BoxRay, slab_spans};

@@ -1,37 +1,43 @@
 //! Light sampling: what makes a shape a light a path tracer can aim at.
 //!
-//! - [`SampleInterior`] (`interior.rs`): an interior's area and area-uniform points, which
+//! - [`SampleInterior`] (`area.rs`): an interior's area and area-uniform points, which
 //!   make a [`Quad`](crate::Quad) of it a [`PdfHittable`](crate::PdfHittable); the
 //!   [`Polygon`]s that also have a solid-angle sampler.
 //! - [`Sampling`] (`sampling.rs`): how a quad light chooses directions, by solid angle or
-//!   by area.
-//! - `spherical.rs`: the solid-angle samplers of rectangles and triangles.
-//! - `uniform.rs`: a slice, `Vec` or [`Bvh`](crate::Bvh) of lights as their uniform
-//!   mixture; [`Mixture`] (`mixture.rs`): lights picked by weight; [`LightTree`]
-//!   (`tree.rs`): lights picked by their importance from the shading point.
-//! - `RandomDirection` (`random.rs`, the `rand` feature): a light sampled with a `rand`
-//!   generator.
+//!   by area; `spherical.rs`: the solid-angle samplers of rectangles and triangles.
+//! - [`ShadingContext`] and [`LightSample`] (`sample.rs`): next-event estimation's view of
+//!   any light.
+//! - `uniform.rs`: a slice or `Vec` of lights as their uniform mixture; [`Mixture`]
+//!   (`mixture.rs`): lights picked by weight; [`LightTree`] (`tree/`): lights picked by
+//!   their importance from the shading point (its build, its cluster bounds, its walk).
+//! - `RandomDirection` and `RandomDirection09` (`random.rs`, the `rand` and `rand09`
+//!   features): a light sampled with a `rand` generator.
 //!
 //! Each shape's own [`PdfHittable`](crate::PdfHittable) implementation lives beside the
 //! shape ([`Quad`](crate::Quad), [`Sphere`](crate::Sphere),
-//! [`Transformed`](crate::Transformed)); this module holds what they share.
+//! [`Transformed`](crate::Transformed), [`TriangleMesh`](crate::TriangleMesh)); this
+//! module holds what they share.
 
-mod interior;
+mod area;
 mod mixture;
-#[cfg(feature = "rand")]
+#[cfg(any(feature = "rand", feature = "rand09"))]
 mod random;
+mod sample;
 mod sampling;
 mod spherical;
 mod tree;
 mod uniform;
 
-pub use interior::{Polygon, SampleInterior};
+pub use area::{Polygon, SampleInterior};
 pub use mixture::Mixture;
 #[cfg(feature = "rand")]
 pub use random::RandomDirection;
+#[cfg(feature = "rand09")]
+pub use random::RandomDirection09;
+pub use sample::{LightSample, ShadingContext};
 pub use sampling::Sampling;
 pub(crate) use spherical::{Spherical, View};
-pub use tree::{Emission, LightTree, WithNormal};
+pub use tree::{Emission, LightTree};
 
 use glam::{DVec2, DVec3};
 
@@ -69,6 +75,24 @@ pub(crate) fn reaching(
         .map(|&k| sample(k))
         .find(|&d| reaches(d))
         .unwrap_or(first)
+}
+
+/// `v` as a unit vector, for any finite, non-zero `v` (scaled first, so that its square
+/// neither over- nor underflows); `None` for a zero or non-finite one.
+pub(crate) fn direction_of(v: DVec3) -> Option<DVec3> {
+    let (unit, length) = crate::math::unit_and_length(v);
+    (length > 0.0 && unit.is_finite()).then_some(unit)
+}
+
+/// `d` as a unit vector (the zero vector as itself): what every light's
+/// `sample_direction` returns, tested for reaching the light after this rounding.
+#[inline]
+pub(crate) fn unit(d: DVec3) -> DVec3 {
+    if d == DVec3::ZERO || !d.is_finite() {
+        d
+    } else {
+        crate::math::unit_and_length(d).0
+    }
 }
 
 /// `u` moved toward the middle of the unit square by the factor `k` of [`RETREAT`]; `u`

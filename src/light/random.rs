@@ -1,7 +1,8 @@
-//! [`RandomDirection`]: sampling a light with a `rand` generator (the `rand` feature).
+//! Sampling a light with a `rand` generator: [`RandomDirection`] for `rand` 0.10 (the
+//! `rand` feature) and [`RandomDirection09`] for `rand` 0.9 (the `rand09` feature). One
+//! trait cannot take both: their generators implement two versions of `rand_core`'s traits.
 
 use glam::{DVec2, DVec3};
-use rand::Rng;
 
 use crate::PdfHittable;
 
@@ -22,19 +23,72 @@ use crate::PdfHittable;
 /// assert!(direction.y > 0.0 && pdf > 0.0);
 /// assert_eq!(pdf, light.pdf_value(DVec3::ZERO, direction));
 /// ```
+#[cfg(feature = "rand")]
 pub trait RandomDirection: PdfHittable {
     /// A direction from `origin` toward the light, from two uniform numbers of `[0, 1)`
     /// (53 random bits each) drawn from `rng`, and its density
     /// ([`pdf_value`](PdfHittable::pdf_value)); a density of 0 means the sample failed
     /// (see [`PdfHittable::sample_direction`]) and should not be divided by.
-    fn random_direction<R: Rng + ?Sized>(&self, origin: DVec3, rng: &mut R) -> (DVec3, f64) {
-        let u = DVec2::new(unit(rng.next_u64()), unit(rng.next_u64()));
-        let direction = self.sample_direction(origin, u);
-        (direction, self.pdf_value(origin, direction))
+    fn random_direction<R: rand::Rng + ?Sized>(&self, origin: DVec3, rng: &mut R) -> (DVec3, f64) {
+        drawn(self, origin, || rng.next_u64())
     }
 }
 
+#[cfg(feature = "rand")]
 impl<T: PdfHittable + ?Sized> RandomDirection for T {}
+
+/// [`RandomDirection`] for a `rand` 0.9 generator (the `rand09` feature): the same
+/// directions from the same random bits.
+///
+/// ```
+/// use hitkit::glam::DVec3;
+/// use hitkit::{PdfHittable, Quad, RandomDirection09};
+///
+/// /// A stand-in for any `rand` 0.9 generator: a counter, through `rand_core` 0.9's trait.
+/// struct Counter(u64);
+/// impl rand09::RngCore for Counter {
+///     fn next_u32(&mut self) -> u32 {
+///         self.next_u64() as u32
+///     }
+///     fn next_u64(&mut self) -> u64 {
+///         self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
+///         self.0
+///     }
+///     fn fill_bytes(&mut self, dest: &mut [u8]) {
+///         dest.iter_mut().for_each(|b| *b = self.next_u32() as u8);
+///     }
+/// }
+///
+/// let lamp = Quad::new(DVec3::new(-1.0, 2.0, -1.0), DVec3::X * 2.0, DVec3::Z * 2.0).unwrap();
+/// let (direction, pdf) = lamp.random_direction(DVec3::ZERO, &mut Counter(7));
+/// assert!(direction.y > 0.0 && pdf > 0.0);
+/// ```
+#[cfg(feature = "rand09")]
+pub trait RandomDirection09: PdfHittable {
+    /// As [`RandomDirection::random_direction`], from a `rand` 0.9 generator.
+    fn random_direction<R: rand09::RngCore + ?Sized>(
+        &self,
+        origin: DVec3,
+        rng: &mut R,
+    ) -> (DVec3, f64) {
+        drawn(self, origin, || rng.next_u64())
+    }
+}
+
+#[cfg(feature = "rand09")]
+impl<T: PdfHittable + ?Sized> RandomDirection09 for T {}
+
+/// A direction toward `light` from two uniform numbers made of `next`'s bits, and its
+/// density.
+fn drawn<L: PdfHittable + ?Sized>(
+    light: &L,
+    origin: DVec3,
+    mut next: impl FnMut() -> u64,
+) -> (DVec3, f64) {
+    let u = DVec2::new(unit(next()), unit(next()));
+    let direction = light.sample_direction(origin, u);
+    (direction, light.pdf_value(origin, direction))
+}
 
 /// The top 53 bits of `bits` as a uniform number of `[0, 1)`.
 #[inline]

@@ -1,11 +1,11 @@
-//! The uniform mixture of lights: a slice, `Vec` or [`Bvh`] of lights picks each with the
-//! same probability. [`Mixture`](crate::Mixture) weighs them.
+//! The uniform mixture of lights: a slice or `Vec` of lights picks each with the same
+//! probability. [`Mixture`](crate::Mixture) weighs them.
 
 use alloc::vec::Vec;
 
 use glam::{DVec2, DVec3};
 
-use crate::{Bvh, PdfHittable};
+use crate::PdfHittable;
 
 /// A uniform mixture of lights: `sample_direction` picks one with probability `1 / n` (by
 /// `u.x`, whose remaining digits are reused for the light's own sample, so one point of
@@ -44,18 +44,5 @@ impl<T: PdfHittable> PdfHittable for Vec<T> {
     #[inline]
     fn sample_direction(&self, origin: DVec3, u: DVec2) -> DVec3 {
         self.as_slice().sample_direction(origin, u)
-    }
-}
-
-/// A uniform mixture of all its objects, as for a slice (see [`PdfHittable`] for `[T]`).
-impl<T: PdfHittable> PdfHittable for Bvh<T> {
-    #[inline]
-    fn pdf_value(&self, origin: DVec3, direction: DVec3) -> f64 {
-        self.objects().pdf_value(origin, direction)
-    }
-
-    #[inline]
-    fn sample_direction(&self, origin: DVec3, u: DVec2) -> DVec3 {
-        self.objects().sample_direction(origin, u)
     }
 }

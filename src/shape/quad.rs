@@ -3,9 +3,9 @@
 
 use glam::{DVec2, DVec3};
 
-use crate::light::{Spherical, View, reaching, toward_middle};
+use super::{Crossing, Decided, Pending};
+use crate::light::{Spherical, View, reaching, toward_middle, unit};
 use crate::math::{direction_scale, gamma, unit_and_length};
-use crate::plane::{Crossing, Decided, Pending};
 use crate::{
     Aabb, Found, GeometryError, HitRecord, Hittable, Interior, Interval, MaterialId, Meets,
     Parallelogram, PdfHittable, Plane, PlaneHit, Polygon, Ray, SampleInterior, Sampling,
@@ -349,8 +349,9 @@ impl<S: SampleInterior> PdfHittable for Quad<S> {
         if pdf < f64::INFINITY { pdf } else { 0.0 }
     }
 
-    /// `p - origin` (not normalized) for the point `p = q + alpha u + beta v` at
-    /// [`SampleInterior::sample`]`(u)`; `u` is first clamped into `[0, 1]^2` (NaN to 0).
+    /// The unit direction toward the point `p = q + alpha u + beta v` at
+    /// [`SampleInterior::sample`]`(u)` (by [`Sampling::Area`]; by solid angle, toward a
+    /// point of the same density); `u` is first clamped into `[0, 1]^2` (NaN to 0).
     ///
     /// A point on the shape's edge (`u.x` or `u.y` exactly 0 for a parallelogram, as the
     /// first point of a Sobol sequence is) may, after rounding, aim just past it; such a
@@ -367,7 +368,7 @@ impl<S: SampleInterior> PdfHittable for Quad<S> {
         let sample = |k: f64| {
             let u = toward_middle(u, k);
             if let Some(view) = &view {
-                return view.sample(plane, origin, u);
+                return unit(view.sample(plane, origin, u));
             }
             let at = self.shape().sample(u);
             let toward = |k: f64| {
@@ -376,11 +377,11 @@ impl<S: SampleInterior> PdfHittable for Quad<S> {
             let direction = toward(1.0);
             // Where the difference overflows, a quarter of every term does not (four terms
             // of at most f64::MAX / 4), and points the same way.
-            if direction.is_finite() {
+            unit(if direction.is_finite() {
                 direction
             } else {
                 toward(0.25)
-            }
+            })
         };
         reaching(sample, |d| self.reached(origin, d).is_some())
     }

@@ -101,7 +101,7 @@ pub enum Meets {
 
 /// A shape tested exactly at the computed crossing, without widening its edges: a little
 /// faster where rays often hit planes outside their shapes, but a ray through an edge
-/// shared by two shapes may then slip between them. See the README's accuracy table.
+/// shared by two shapes may then slip between them. `docs/accuracy.md` measures both.
 ///
 /// ```
 /// use hitkit::{glam::DVec3, Exact, Parallelogram, Quad};

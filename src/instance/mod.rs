@@ -2,6 +2,12 @@
 //! two-step search through an instance, whose object finds its crossing along the ray
 //! moved into the object's frame and reports it along the world ray.
 
+mod moving;
+mod transformed;
+
+pub use moving::Moving;
+pub use transformed::Transformed;
+
 use crate::{Aabb, Found, HitRecord, Interval, Ray};
 
 /// The `t` of the object's crossing (along the moved ray) as the instance's: kept within

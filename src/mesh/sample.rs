@@ -4,7 +4,7 @@ use glam::{DVec2, DVec3};
 
 use super::intersect::Sheared;
 use super::{AREA_BLOCK, TriangleMesh, face_area};
-use crate::light::{reaching, toward_middle};
+use crate::light::{reaching, toward_middle, unit};
 use crate::math::{direction_scale, sqrt, unit_and_length};
 use crate::{Interval, PdfHittable, Ray};
 
@@ -23,7 +23,7 @@ use crate::{Interval, PdfHittable, Ray};
 /// let pdf = light.pdf_value(DVec3::ZERO, DVec3::new(0.5, 1.0, 0.0));
 /// assert!((pdf - 1.25f64.powf(1.5) / 4.0).abs() < 1e-15);
 /// let d = light.sample_direction(DVec3::ZERO, DVec2::new(0.3, 0.6));
-/// assert!(d.y == 1.0 && light.pdf_value(DVec3::ZERO, d) > 0.0);
+/// assert!(d.y > 0.0 && light.pdf_value(DVec3::ZERO, d) > 0.0);
 /// ```
 impl PdfHittable for TriangleMesh {
     /// The sum, over every face the ray from `origin` along `direction` crosses (at `t >=
@@ -65,7 +65,7 @@ impl PdfHittable for TriangleMesh {
         if sum < f64::INFINITY { sum } else { 0.0 }
     }
 
-    /// `p - origin` for a point `p` drawn uniformly by area: `u.x` picks the face (by the
+    /// The unit direction toward a point `p` drawn uniformly by area: `u.x` picks the face (by the
     /// running sums of the areas) and, rescaled within the face's share, with `u.y` the
     /// point on it (the square-root warp, as for [`Triangle`](crate::Triangle)). `u` is
     /// first clamped into `[0, 1]^2`; the zero vector for a mesh without area or a
@@ -110,11 +110,11 @@ impl PdfHittable for TriangleMesh {
             let (b1, b2) = (1.0 - s, w.y * s);
             let toward = |k: f64| (k * p0 - k * origin) + (b1 * k * (p1 - p0) + b2 * k * (p2 - p0));
             let direction = toward(1.0);
-            if direction.is_finite() {
+            unit(if direction.is_finite() {
                 direction
             } else {
                 toward(0.25)
-            }
+            })
         };
         // A point on the face's edge (`u.x` or `u.y` at 0 or 1, as a sampler's first points
         // are) may aim just past it, and past the mesh where the edge is its border: drawn

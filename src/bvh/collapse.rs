@@ -1,0 +1,112 @@
+//! The binary tree the build makes (pairs of children), collapsed into nodes of four.
+
+use alloc::vec::Vec;
+
+use super::build::Box3;
+use super::node::Node;
+use glam::Vec4;
+
+use super::WIDTH;
+
+/// Two sibling nodes of the binary tree the SAH build makes, before [`collapse`] turns it
+/// into [`Node`]s of four: their boxes, and for each either two children (`count == 0`,
+/// `index` the pair that holds them) or a leaf (`count` objects from `index`).
+#[derive(Clone, Copy)]
+pub(super) struct Pair {
+    pub(super) min: [[f32; 2]; 3],
+    pub(super) max: [[f32; 2]; 3],
+    pub(super) index: [u32; 2],
+    pub(super) count: [u32; 2],
+}
+
+impl Pair {
+    /// Child `k` (0 or 1).
+    fn child(&self, k: usize) -> Child {
+        let corner = |c: &[[f32; 2]; 3]| Vec4::new(c[0][k], c[1][k], c[2][k], 0.0);
+        Child {
+            bounds: Box3 {
+                min: corner(&self.min),
+                max: corner(&self.max),
+            },
+            index: self.index[k],
+            count: self.count[k],
+        }
+    }
+}
+
+/// A node as the build returns it, before it is written into its parent's pair.
+#[derive(Clone, Copy)]
+pub(super) struct Child {
+    pub(super) bounds: Box3,
+    pub(super) index: u32,
+    pub(super) count: u32,
+}
+
+/// The binary tree of `pairs` under `root` as nodes of up to four children, appended to
+/// `nodes` parents first: each node takes its two children, then, while it has a free
+/// lane, opens the inner child of largest surface area (the one a ray most often enters)
+/// in place of it. Lanes keep the binary tree's left-to-right order, so that a walk of the
+/// nodes, lane by lane, depth first, meets the leaves in the objects' order. A root that
+/// is a leaf becomes a node of one child. Returns the levels of nodes.
+pub(super) fn collapse(pairs: &[Pair], root: Child, nodes: &mut Vec<Node>) -> usize {
+    let slot = nodes.len();
+    nodes.push(Node {
+        bounds: [
+            [f32::INFINITY; WIDTH],
+            [f32::INFINITY; WIDTH],
+            [f32::INFINITY; WIDTH],
+            [f32::NEG_INFINITY; WIDTH],
+            [f32::NEG_INFINITY; WIDTH],
+            [f32::NEG_INFINITY; WIDTH],
+        ],
+        index: [0; WIDTH],
+        count: [0; WIDTH],
+    });
+    let mut lanes = [root; WIDTH];
+    let mut used = 1;
+    if root.count == 0 {
+        let pair = &pairs[root.index as usize];
+        (lanes[0], lanes[1], used) = (pair.child(0), pair.child(1), 2);
+        while used < WIDTH {
+            let widest = (0..used).filter(|&k| lanes[k].count == 0).max_by(|&a, &b| {
+                lanes[a]
+                    .bounds
+                    .half_area()
+                    .total_cmp(&lanes[b].bounds.half_area())
+            });
+            let Some(k) = widest else { break };
+            // Its two children take its place, in order, so that the lanes stay in the
+            // binary tree's left-to-right order (and their leaves in the objects' order:
+            // what a refit relies on to visit the objects in order).
+            let pair = &pairs[lanes[k].index as usize];
+            lanes.copy_within(k + 1..used, k + 2);
+            (lanes[k], lanes[k + 1]) = (pair.child(0), pair.child(1));
+            used += 1;
+        }
+    }
+    let mut below = 0;
+    for (k, &child) in lanes[..used].iter().enumerate() {
+        let mut lane = child;
+        if lane.count == 0 {
+            lane.index = nodes.len() as u32;
+            below = below.max(collapse(pairs, child, nodes));
+        }
+        let node = &mut nodes[slot];
+        for axis in 0..3 {
+            node.bounds[axis][k] = lane.bounds.min[axis];
+            node.bounds[3 + axis][k] = lane.bounds.max[axis];
+        }
+        node.index[k] = lane.index;
+        node.count[k] = lane.count;
+    }
+    below + 1
+}
+
+pub(super) fn pair(a: Child, b: Child) -> Pair {
+    Pair {
+        min: [0, 1, 2].map(|axis| [a.bounds.min[axis], b.bounds.min[axis]]),
+        max: [0, 1, 2].map(|axis| [a.bounds.max[axis], b.bounds.max[axis]]),
+        index: [a.index, b.index],
+        count: [a.count, b.count],
+    }
+}

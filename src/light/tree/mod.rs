@@ -1,0 +1,636 @@
+//! Many lights: a tree over them that picks one by its importance from the shading point
+//! (after Conty Estevez and Kulla 2018, "Importance Sampling of Many Lights with Adaptive
+//! Tree Splitting", the method of pbrt-v4's `BVHLightSampler`).
+
+mod build;
+mod cluster;
+mod sample;
+
+use alloc::vec::Vec;
+use core::f64::consts::PI;
+
+use glam::{DVec2, DVec3};
+
+use build::{Prim, build};
+use cluster::Cluster;
+
+use crate::{
+    Aabb, GeometryError, HitRecord, Hittable, Interval, LightSample, PdfHittable, Quad, Ray,
+    ShadingContext, Triangle, TriangleMesh,
+};
+
+/// The directions a light emits in, for [`LightTree`]'s importance: a light that faces
+/// away from a point is not picked there.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Emission {
+    /// From every point in every direction (a sphere, or a light whose orientation is not
+    /// known): never ruled out by its orientation.
+    Everywhere,
+    /// From the side of a surface that the given normal points to (a one-sided diffuse
+    /// panel): no light behind it.
+    OneSide(DVec3),
+    /// From both sides of a surface normal to the given vector.
+    BothSides(DVec3),
+}
+
+/// Lights picked by their importance from the point being shaded, as one [`PdfHittable`]:
+/// a binary tree over the lights whose every node bounds what is under it (a box, the
+/// total power, a cone of the directions its lights face). `sample_direction` walks down
+/// from the root, choosing between two children in proportion to a bound on the light
+/// each can send to the point (power over squared distance, cut where the cluster's cone
+/// of emission faces away; Conty Estevez and Kulla 2018), then samples the light it
+/// reaches. `pdf_value` is the density of that walk: the sum, over every light the
+/// direction reaches, of the probability of walking to it times its own density, so a
+/// renderer that mixes it with other strategies stays unbiased. A light far, dim or
+/// facing away is picked seldom or never, where a [`Mixture`](crate::Mixture) picks it at
+/// its fixed weight. A sample costs a walk of the tree's depth; a density, the box tests
+/// of the nodes its ray meets and a walk up from each light it reaches, where a
+/// `Mixture`'s density visits every light.
+///
+/// [`PdfHittable::sample_light`] from a [`ShadingContext`] with a normal picks no light
+/// whose box lies wholly below the surface's horizon. As a [`Hittable`], the tree is the
+/// list of its lights (the closest hit; ties go to the earlier light).
+///
+/// ```
+/// use hitkit::glam::{DVec2, DVec3};
+/// use hitkit::{Emission, LightTree, PdfHittable, Quad, ShadingContext};
+///
+/// # fn main() -> Result<(), hitkit::GeometryError> {
+/// // A row of ceiling panels facing down, 10 apart.
+/// let panel = |x: f64| Quad::new(DVec3::new(x, 3.0, 0.0), DVec3::X, DVec3::Z);
+/// let panels = (0..100).map(|i| panel(10.0 * f64::from(i))).collect::<Result<Vec<_>, _>>()?;
+/// let powers = vec![1.0; panels.len()];
+/// let emission = vec![Emission::OneSide(DVec3::NEG_Y); panels.len()];
+/// let lights = LightTree::new(panels, &powers, &emission)?;
+///
+/// // Under panel 42, the walk picks it 40 times as often as a uniform choice would; below
+/// // a surface facing up, more often still.
+/// let under = DVec3::new(420.5, 0.0, 0.5);
+/// assert!(lights.probability(&ShadingContext::at(under), 42) > 0.4);
+/// let floor = ShadingContext::on_surface(under, DVec3::Y);
+/// assert!(lights.probability(&floor, 42) > 0.55);
+/// let sample = lights.sample_light(&floor, DVec2::new(0.3, 0.7)).unwrap();
+/// assert!(sample.pdf > 0.0 && sample.record.point.y == 3.0);
+/// // Seen from high above the panels, every one faces away: their importance there is 0,
+/// // and the walk falls back on power alone.
+/// let above = DVec3::new(420.5, 1000.0, 0.5);
+/// assert!((lights.probability(&ShadingContext::at(above), 42) - 0.01).abs() < 1e-15);
+/// # Ok(())
+/// # }
+/// ```
+#[derive(Clone, Debug)]
+pub struct LightTree<T> {
+    lights: Vec<T>,
+    /// Depth first: an inner node's first child follows it.
+    nodes: Vec<Node>,
+    /// For each node, its parent (`u32::MAX` for the root).
+    parents: Vec<u32>,
+    /// For each light, its leaf.
+    leaves: Vec<u32>,
+}
+
+/// A node of the tree: the bounds of its lights, and its second child or its light.
+#[derive(Clone, Copy, Debug)]
+struct Node {
+    cluster: Cluster,
+    /// The second child of an inner node, or the light of a leaf.
+    index: u32,
+    leaf: bool,
+}
+
+/// How deep the tree may grow: splits by count from half this depth on keep it within,
+/// for as many lights as `u32` counts.
+const MAX_DEPTH: usize = 64;
+
+/// No parent: the root's.
+const NONE: u32 = u32::MAX;
+
+impl<T: PdfHittable> LightTree<T> {
+    /// The tree over `lights`, light `i` of power `powers[i]` (radiant flux, or anything
+    /// proportional to it across the lights) emitting as `emission[i]` says.
+    ///
+    /// A light of power 0 is never picked, and its density never counts; at least one
+    /// light must have power, unless there are none (then every density is 0 and every
+    /// sample the zero vector, as for an empty [`Mixture`](crate::Mixture)).
+    ///
+    /// # Errors
+    /// [`GeometryError::LengthMismatch`] if `powers` or `emission` differ in length from
+    /// `lights`; [`GeometryError::NonFinite`] for a NaN or infinite power, or an emission
+    /// normal that is not finite; [`GeometryError::InvalidParameter`] for a negative power,
+    /// for powers all 0, or for a light whose bounding box is empty or unbounded;
+    /// [`GeometryError::ZeroVector`] for an emission normal of length 0.
+    ///
+    /// # Panics
+    /// If there are more than `u32::MAX / 2` lights.
+    pub fn new(
+        lights: Vec<T>,
+        powers: &[f64],
+        emission: &[Emission],
+    ) -> Result<Self, GeometryError> {
+        for (what, found) in [("powers", powers.len()), ("emission", emission.len())] {
+            if found != lights.len() {
+                return Err(GeometryError::LengthMismatch {
+                    what,
+                    expected: lights.len(),
+                    found,
+                });
+            }
+        }
+        assert!(
+            lights.len() <= (u32::MAX / 2) as usize,
+            "a LightTree holds at most u32::MAX / 2 lights"
+        );
+        let mut prims = Vec::with_capacity(lights.len());
+        for (i, light) in lights.iter().enumerate() {
+            let cluster = Cluster::of(light.bounding_box(), powers[i], emission[i])?;
+            let centroid = 0.5 * (cluster.bbox.min() + cluster.bbox.max());
+            prims.push(Prim {
+                cluster,
+                centroid,
+                light: i as u32,
+            });
+        }
+        if !lights.is_empty() && prims.iter().all(|p| p.cluster.power == 0.0) {
+            return Err(GeometryError::InvalidParameter {
+                what: "sum of powers",
+                value: 0.0,
+                domain: "(0, infinity)",
+            });
+        }
+        let mut nodes = Vec::with_capacity(2 * lights.len());
+        if !prims.is_empty() {
+            build(&mut prims, &mut nodes, 0);
+        }
+        let mut parents = alloc::vec![NONE; nodes.len()];
+        let mut leaves = alloc::vec![0; lights.len()];
+        for (n, node) in nodes.iter().enumerate() {
+            if node.leaf {
+                leaves[node.index as usize] = n as u32;
+            } else {
+                parents[n + 1] = n as u32;
+                parents[node.index as usize] = n as u32;
+            }
+        }
+        Ok(Self {
+            lights,
+            nodes,
+            parents,
+            leaves,
+        })
+    }
+
+    /// The lights, in the order given.
+    #[inline]
+    #[must_use]
+    pub fn lights(&self) -> &[T] {
+        &self.lights
+    }
+}
+
+impl LightTree<Quad<Triangle>> {
+    /// The faces of an emissive mesh as lights, each its own emitter, of power
+    /// `PI * radiance * area` (the flux of a diffuse emitter of that radiance; twice that
+    /// where `two_sided`), facing the side its corners wind counterclockwise around (the
+    /// side [`TriangleMesh`]'s geometric normal faces), or both. Degenerate faces (of no
+    /// area) are left out; each light carries the mesh's material.
+    ///
+    /// # Errors
+    /// As [`LightTree::new`]: a radiance that is negative, not finite, or 0.
+    pub fn from_mesh(
+        mesh: &TriangleMesh,
+        radiance: f64,
+        two_sided: bool,
+    ) -> Result<Self, GeometryError> {
+        let mut faces = Vec::with_capacity(mesh.face_count());
+        let (mut powers, mut emission) = (Vec::new(), Vec::new());
+        let sides = if two_sided { 2.0 } else { 1.0 };
+        for face in mesh.faces() {
+            let [a, b, c] = face.corners();
+            let Ok(quad) = Quad::with_interior(a, b - a, c - a, Triangle) else {
+                continue;
+            };
+            let normal = quad.plane().normal();
+            powers.push(sides * PI * radiance * quad.area());
+            emission.push(if two_sided {
+                Emission::BothSides(normal)
+            } else {
+                Emission::OneSide(normal)
+            });
+            faces.push(quad.with_material(mesh.material()));
+        }
+        Self::new(faces, &powers, &emission)
+    }
+}
+
+impl<T: PdfHittable> Hittable for LightTree<T> {
+    fn hit(&self, ray: &Ray, ray_t: Interval) -> Option<HitRecord> {
+        // The lights under every node whose box the ray meets, nearest kept (ties to the
+        // earlier light, as the list's loop keeps them).
+        let mut best: Option<(usize, HitRecord)> = None;
+        let mut stack = [0u32; MAX_DEPTH + 2];
+        let mut top = usize::from(!self.nodes.is_empty());
+        while top > 0 {
+            top -= 1;
+            let n = stack[top];
+            let node = &self.nodes[n as usize];
+            let reach = Interval::new(ray_t.min, best.as_ref().map_or(ray_t.max, |b| b.1.t));
+            if !node.cluster.bbox.hit(ray, reach) {
+                continue;
+            }
+            if node.leaf {
+                let i = node.index as usize;
+                if let Some(hit) = self.lights[i].hit(ray, reach) {
+                    let better = best
+                        .as_ref()
+                        .is_none_or(|(j, b)| hit.t < b.t || (hit.t == b.t && i < *j));
+                    if better {
+                        best = Some((i, hit));
+                    }
+                }
+                continue;
+            }
+            stack[top] = node.index;
+            stack[top + 1] = n + 1;
+            top += 2;
+        }
+        best.map(|(_, hit)| hit)
+    }
+
+    fn bounding_box(&self) -> Aabb {
+        self.nodes
+            .first()
+            .map_or(Aabb::EMPTY, |root| root.cluster.bbox)
+    }
+}
+
+impl<T: PdfHittable> PdfHittable for LightTree<T> {
+    /// The sum, over the lights the direction reaches, of the probability that the walk
+    /// picks each (from `origin`, with no normal) times its density; 0 for an empty tree
+    /// or an invalid direction.
+    fn pdf_value(&self, origin: DVec3, direction: DVec3) -> f64 {
+        self.density(origin, None, direction)
+    }
+
+    /// `u.x` makes the walk's choices (each rescaled to `[0, 1)` within the choice made)
+    /// and, what is left of it, the chosen light's own `u.x`. The zero vector for an empty
+    /// tree or an origin that is not finite (and, [`sample_light`](PdfHittable::sample_light) with a normal,
+    /// where the walk picks no light).
+    fn sample_direction(&self, origin: DVec3, u: DVec2) -> DVec3 {
+        self.sample(origin, None, u)
+    }
+
+    /// As [`sample_direction`](PdfHittable::sample_direction), with the context's normal:
+    /// no light whose box lies wholly below the horizon of the surface is picked (none
+    /// there can light the side the normal faces). Where every light the walk can still
+    /// reach lies below it, `None`; the probabilities of the lights then sum to less than
+    /// 1 by that chance, which [`light_pdf`](PdfHittable::light_pdf) accounts for.
+    fn sample_light(&self, at: &ShadingContext, u: DVec2) -> Option<LightSample> {
+        let direction = self.sample(at.point, at.unit_normal(), u);
+        LightSample::along(self, at, direction)
+    }
+
+    /// As [`pdf_value`](PdfHittable::pdf_value), with the context's normal (see
+    /// [`sample_light`](PdfHittable::sample_light)).
+    fn light_pdf(&self, at: &ShadingContext, direction: DVec3) -> f64 {
+        self.density(at.point, at.unit_normal(), direction)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{Emission, LightTree};
+    use crate::{
+        GeometryError, Hittable, Interval, PdfHittable, Quad, Ray, ShadingContext, Sphere,
+    };
+    use alloc::boxed::Box;
+    use alloc::vec::Vec;
+    use glam::{DVec2, DVec3};
+    use proptest::prelude::*;
+
+    /// A light of one of three kinds (a panel facing one way, one facing both ways, a
+    /// sphere emitting everywhere) at `at`, of size `size`, turned by `turn`.
+    fn light(kind: u8, at: DVec3, size: f64, turn: DVec3) -> (Box<dyn PdfHittable>, Emission) {
+        let (u, v) = turn.normalize_or(DVec3::Y).any_orthonormal_pair();
+        match kind % 3 {
+            0 => (
+                Box::new(Quad::new(at, u * size, v * size).unwrap()),
+                Emission::OneSide(u.cross(v)),
+            ),
+            1 => (
+                Box::new(Quad::new(at, u * size, v * size).unwrap()),
+                Emission::BothSides(v.cross(u)),
+            ),
+            _ => (
+                Box::new(Sphere::new(at, 0.5 * size).unwrap()),
+                Emission::Everywhere,
+            ),
+        }
+    }
+
+    type Spec = (u8, [f64; 3], f64, [f64; 3], f64);
+
+    fn tree(specs: &[Spec], offset: f64) -> LightTree<Box<dyn PdfHittable>> {
+        let (mut lights, mut emission, mut powers) = (Vec::new(), Vec::new(), Vec::new());
+        for &(kind, at, size, turn, power) in specs {
+            let (l, e) = light(kind, DVec3::from(at) + offset, size, DVec3::from(turn));
+            lights.push(l);
+            emission.push(e);
+            powers.push(power);
+        }
+        LightTree::new(lights, &powers, &emission).unwrap()
+    }
+
+    fn specs() -> impl Strategy<Value = Vec<Spec>> {
+        prop::collection::vec(
+            (
+                any::<u8>(),
+                prop::array::uniform3(-10.0f64..10.0),
+                prop_oneof![Just(1e-3), 0.1f64..3.0],
+                prop::array::uniform3(-1.0f64..1.0),
+                // Some lights of no power, one in six; powers over twelve decades.
+                prop_oneof![1 => Just(0.0), 5 => (-6.0f64..6.0).prop_map(|e| 10f64.powf(e))],
+            ),
+            1..40,
+        )
+        .prop_filter("some power", |s| s.iter().any(|l| l.4 > 0.0))
+    }
+
+    fn origin() -> impl Strategy<Value = (DVec3, Option<DVec3>)> {
+        (
+            prop_oneof![
+                prop::array::uniform3(-12.0f64..12.0).prop_map(DVec3::from),
+                prop::array::uniform3(-1e6f64..1e6).prop_map(DVec3::from),
+            ],
+            prop::option::of(prop::array::uniform3(-1.0f64..1.0).prop_map(DVec3::from)),
+        )
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(64))]
+
+        /// The walk's probabilities, found light by light from the leaf up, are a
+        /// distribution over the lights of power (each in `[0, 1]`, summing to 1 within
+        /// the rounding of the sum: each probability is a product of at most `depth`
+        /// shares, each within an ulp, and the sum of `n` terms adds `n` more; with a
+        /// normal, to at most 1, the rest being the chance of no light), and a stratified
+        /// walk from the root lands on each light as often as that says: each light takes
+        /// one interval of `x`, so `N` evenly spaced `x` land on it its probability times
+        /// `N`, within one (and the rounding).
+        #[test]
+        fn the_walk_picks_each_light_with_its_probability(
+            specs in specs(),
+            offset in prop_oneof![Just(0.0), Just(1e9)],
+            (o, normal) in origin(),
+        ) {
+            let tree = tree(&specs, offset);
+            let origin = o + offset;
+            let p: Vec<f64> = (0..specs.len()).map(|i| tree.probability(&ShadingContext { point: origin, normal }, i)).collect();
+            let sum: f64 = p.iter().sum();
+            let depth = 2 * specs.len();
+            let rounding = (depth + specs.len()) as f64 * f64::EPSILON;
+            // With a normal, the walk may end without a light (where every light it can
+            // still reach lies below the horizon): then the sum is less than 1.
+            prop_assert!(sum <= 1.0 + rounding, "sum {}", sum);
+            if normal.is_none() {
+                prop_assert!((sum - 1.0).abs() <= rounding, "sum {}", sum);
+            }
+            for (i, &pi) in p.iter().enumerate() {
+                prop_assert!((0.0..=1.0).contains(&pi));
+                if specs[i].4 == 0.0 {
+                    prop_assert_eq!(pi, 0.0);
+                }
+            }
+            let normal = normal.and_then(DVec3::try_normalize);
+            const N: usize = 4096;
+            let (mut counts, mut none) = (alloc::vec![0usize; specs.len()], 0usize);
+            for k in 0..N {
+                match tree.pick(origin, normal, (k as f64 + 0.5) / N as f64) {
+                    Some((i, rest)) => {
+                        prop_assert!((0.0..1.0).contains(&rest));
+                        counts[i] += 1;
+                    }
+                    None => none += 1,
+                }
+            }
+            // Each light, and no light, takes intervals of `x`: one per dead end of the
+            // walk for no light, so its count may be off by one for each.
+            for (i, &count) in counts.iter().enumerate() {
+                let expected = p[i] * N as f64;
+                prop_assert!((count as f64 - expected).abs() <= 1.0 + 1e-9 * N as f64,
+                    "light {}: {} picks, expected {}", i, count, expected);
+            }
+            let expected = (1.0 - sum) * N as f64;
+            prop_assert!((none as f64 - expected).abs() <= specs.len() as f64 + 1e-9 * N as f64,
+                "no light: {} picks, expected {}", none, expected);
+        }
+
+        /// The density of a sampled direction is the sum, over every light, of its
+        /// probability times its own density (found here by a loop over all of them, not
+        /// by the tree's walk along the ray), and positive (clause 6). The two sums add the
+        /// same terms in other orders, each product within `2 depth` ulps: the tolerance.
+        #[test]
+        fn the_density_is_the_walk_times_each_lights_density(
+            specs in specs(),
+            (origin, normal) in origin(),
+            u in prop::array::uniform2(0.0f64..1.0),
+        ) {
+            let tree = tree(&specs, 0.0);
+            let at = ShadingContext { point: origin, normal };
+            let d = tree.sample(origin, at.unit_normal(), DVec2::from(u));
+            prop_assert!(d.is_finite());
+            let pdf = tree.light_pdf(&at, d);
+            let loop_sum: f64 = (0..specs.len())
+                .map(|i| tree.probability(&at, i) * tree.lights()[i].pdf_value(origin, d))
+                .sum();
+            let rounding = (4 * specs.len() + specs.len()) as f64 * f64::EPSILON;
+            prop_assert!((pdf - loop_sum).abs() <= rounding * loop_sum, "{} against {}", pdf, loop_sum);
+            // A light that can be reached from here gets a density: the sampled direction
+            // reaches the light it was drawn toward.
+            if let Some((i, _)) = tree.pick(origin, normal.and_then(DVec3::try_normalize), u[0])
+                && tree.lights()[i].pdf_value(origin, d) > 0.0
+            {
+                prop_assert!(pdf > 0.0);
+            }
+            prop_assert!(!tree.pdf_value(origin, d).is_nan());
+        }
+
+        /// As a `Hittable`, the tree answers as the loop over its lights.
+        #[test]
+        fn hits_are_the_loops(specs in specs(), (origin, _) in origin(), d in prop::array::uniform3(-1.0f64..1.0)) {
+            let tree = tree(&specs, 0.0);
+            let ray = Ray::new(origin, DVec3::from(d));
+            let tree_hit = tree.hit(&ray, Interval::FORWARD).map(|h| h.t);
+            let loop_hit = tree.lights().hit(&ray, Interval::FORWARD).map(|h| h.t);
+            prop_assert_eq!(tree_hit, loop_hit);
+        }
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(1024))]
+
+        /// The importance is a bound: where it is 0 for a cluster of lights (one to three,
+        /// merged as the build merges them), no point of any of them sends light toward
+        /// `p` from its emitting side onto the side `p`'s normal faces (checked by brute
+        /// force on a grid of points of each panel, a margin of 1e-9 in the cosines for
+        /// rounding). A light the walk could never pick must be one that cannot light `p`.
+        #[test]
+        fn a_cluster_of_importance_0_cannot_light_the_point(
+            lights in prop::collection::vec((
+                0u8..3,
+                prop::array::uniform3(-3.0f64..3.0),
+                0.1f64..2.0,
+                prop::array::uniform3(-1.0f64..1.0),
+            ), 1..4),
+            p in prop::array::uniform3(-6.0f64..6.0),
+            normal in prop::option::of(prop::array::uniform3(-1.0f64..1.0)),
+        ) {
+            let p = DVec3::from(p);
+            let normal = normal.and_then(|n| DVec3::from(n).try_normalize());
+            let mut cluster = None;
+            let mut panels = Vec::new();
+            for &(kind, at, size, turn) in &lights {
+                let (u, v) = DVec3::from(turn).normalize_or(DVec3::Y).any_orthonormal_pair();
+                let emission = match kind {
+                    0 => Emission::OneSide(u.cross(v)),
+                    1 => Emission::BothSides(u.cross(v)),
+                    _ => Emission::Everywhere,
+                };
+                let corner = DVec3::from(at);
+                let quad = Quad::new(corner, u * size, v * size).unwrap();
+                let c = super::Cluster::of(quad.bounding_box(), 1.0, emission).unwrap();
+                cluster = Some(cluster.map_or(c, |a: super::Cluster| a.union(&c)));
+                panels.push((corner, u * size, v * size, emission));
+            }
+            let cluster = cluster.unwrap();
+            // About one case in six: the others have nothing to check.
+            if cluster.importance(p, normal) > 0.0 {
+                return Ok(());
+            }
+            for (corner, u, v, emission) in panels {
+                for i in 0..=4 {
+                    for j in 0..=4 {
+                        let q = corner + u * (f64::from(i) / 4.0) + v * (f64::from(j) / 4.0);
+                        let Some(toward_p) = (p - q).try_normalize() else { continue };
+                        let emits = match emission {
+                            Emission::Everywhere => true,
+                            Emission::OneSide(m) => m.normalize().dot(toward_p) > 1e-9,
+                            Emission::BothSides(m) => m.normalize().dot(toward_p).abs() > 1e-9,
+                        };
+                        let received = normal.is_none_or(|n| n.dot(-toward_p) > 1e-9);
+                        prop_assert!(!(emits && received), "{q} lights {p} though the importance is 0");
+                    }
+                }
+            }
+        }
+    }
+
+    /// Where the walk cannot go wrong: one light is picked always; a light of no power
+    /// never; an origin on a light, inside a cluster's box or far away, or not finite,
+    /// gives no NaN.
+    #[test]
+    fn edges() {
+        let panel = |x: f64| Quad::new(DVec3::new(x, 0.0, 0.0), DVec3::X, DVec3::Z).unwrap();
+        let up = Emission::OneSide(DVec3::Y);
+        let one = LightTree::new(alloc::vec![panel(0.0)], &[2.0], &[up]).unwrap();
+        assert_eq!(
+            one.probability(&ShadingContext::at(DVec3::new(0.5, 1.0, 0.5)), 0),
+            1.0
+        );
+        let d = one.sample_direction(DVec3::new(0.5, 1.0, 0.5), DVec2::splat(0.5));
+        assert!(one.pdf_value(DVec3::new(0.5, 1.0, 0.5), d) > 0.0);
+
+        let lights = alloc::vec![panel(0.0), panel(2.0), panel(4.0)];
+        let tree = LightTree::new(lights, &[1.0, 0.0, 3.0], &[up; 3]).unwrap();
+        for origin in [
+            DVec3::new(2.5, 0.0, 0.5),   // on the light of no power
+            DVec3::new(0.25, 0.0, 0.25), // on a light
+            DVec3::new(1.5, 0.0, 0.5),   // inside the boxes of clusters
+            DVec3::new(1e300, -1e300, 3.0),
+            DVec3::new(2.0, -5.0, 0.5), // below every light
+        ] {
+            assert_eq!(tree.probability(&ShadingContext::at(origin), 1), 0.0);
+            let sum: f64 = (0..3)
+                .map(|i| tree.probability(&ShadingContext::at(origin), i))
+                .sum();
+            assert!((sum - 1.0).abs() < 1e-15, "{origin}: {sum}");
+            for u in [DVec2::ZERO, DVec2::splat(0.5), DVec2::splat(1.0 - 1e-16)] {
+                let d = tree.sample_direction(origin, u);
+                assert!(!tree.pdf_value(origin, d).is_nan(), "{origin}");
+            }
+        }
+        for bad in [DVec3::NAN, DVec3::INFINITY] {
+            assert_eq!(tree.sample_direction(bad, DVec2::splat(0.5)), DVec3::ZERO);
+            assert_eq!(tree.pdf_value(bad, DVec3::Y), 0.0);
+            assert_eq!(tree.probability(&ShadingContext::at(bad), 0), 0.0);
+        }
+        let empty: LightTree<Quad> = LightTree::new(alloc::vec![], &[], &[]).unwrap();
+        assert_eq!(
+            empty.sample_direction(DVec3::ZERO, DVec2::splat(0.5)),
+            DVec3::ZERO
+        );
+        assert_eq!(empty.pdf_value(DVec3::ZERO, DVec3::Y), 0.0);
+        assert!(
+            empty
+                .hit(&Ray::new(DVec3::ZERO, DVec3::Y), Interval::FORWARD)
+                .is_none()
+        );
+    }
+
+    #[test]
+    fn bad_lights_are_errors() {
+        let panel = Quad::new(DVec3::ZERO, DVec3::X, DVec3::Z).unwrap();
+        let up = Emission::OneSide(DVec3::Y);
+        let make = |powers: &[f64], emission: &[Emission]| {
+            LightTree::new(alloc::vec![panel; powers.len().max(1)], powers, emission).err()
+        };
+        assert!(matches!(
+            make(&[1.0, 1.0], &[up]),
+            Some(GeometryError::LengthMismatch { .. })
+        ));
+        assert!(matches!(
+            make(&[-1.0], &[up]),
+            Some(GeometryError::InvalidParameter { .. })
+        ));
+        assert!(matches!(
+            make(&[f64::NAN], &[up]),
+            Some(GeometryError::NonFinite { .. })
+        ));
+        assert!(matches!(
+            make(&[0.0], &[up]),
+            Some(GeometryError::InvalidParameter { .. })
+        ));
+        let zero = Emission::OneSide(DVec3::ZERO);
+        assert!(matches!(
+            make(&[1.0], &[zero]),
+            Some(GeometryError::ZeroVector { .. })
+        ));
+        let nan = Emission::BothSides(DVec3::NAN);
+        assert!(matches!(
+            make(&[1.0], &[nan]),
+            Some(GeometryError::NonFinite { .. })
+        ));
+        // A light with no bounds to cluster by.
+        struct Everywhere;
+        impl Hittable for Everywhere {
+            fn hit(&self, _: &Ray, _: Interval) -> Option<crate::HitRecord> {
+                None
+            }
+            fn bounding_box(&self) -> crate::Aabb {
+                crate::Aabb::UNIVERSE
+            }
+        }
+        impl PdfHittable for Everywhere {
+            fn pdf_value(&self, _: DVec3, _: DVec3) -> f64 {
+                0.0
+            }
+            fn sample_direction(&self, _: DVec3, _: DVec2) -> DVec3 {
+                DVec3::Y
+            }
+        }
+        let unbounded = LightTree::new(alloc::vec![Everywhere], &[1.0], &[Emission::Everywhere]);
+        assert!(matches!(
+            unbounded.err(),
+            Some(GeometryError::InvalidParameter { .. })
+        ));
+    }
+}

@@ -1,0 +1,160 @@
+//! The walk down a [`LightTree`]: the probability of each choice from a shading point, the
+//! light it picks, and the density of a direction, which follows the same choices.
+
+use glam::{DVec2, DVec3};
+
+use super::cluster::{Cluster, share};
+use super::{LightTree, MAX_DEPTH, NONE};
+use crate::ShadingContext;
+use crate::{Interval, PdfHittable, Ray};
+
+impl<T: PdfHittable> LightTree<T> {
+    /// The probability that a sample from `at` picks light `i`: the product of the
+    /// choices on the walk down to it.
+    ///
+    /// # Panics
+    /// If `i >= self.lights().len()`.
+    #[must_use]
+    pub fn probability(&self, at: &ShadingContext, i: usize) -> f64 {
+        let (origin, normal) = (at.point, at.unit_normal());
+        if !origin.is_finite() || self.hidden(origin, normal) {
+            return 0.0;
+        }
+        self.reaching(self.leaves[i] as usize, origin, normal)
+    }
+
+    /// Whether every light lies wholly below the horizon of a surface at `origin` facing
+    /// `normal` (the root's box does): then nothing is picked.
+    #[inline]
+    pub(super) fn hidden(&self, origin: DVec3, normal: Option<DVec3>) -> bool {
+        normal.is_some_and(|n| {
+            self.nodes
+                .first()
+                .is_some_and(|root| root.cluster.below(origin, n))
+        })
+    }
+
+    /// The probability that the walk reaches node `n` (given that the tree is not
+    /// [`hidden`](LightTree::hidden)): the product of the choices on the way down to it,
+    /// found on the way up.
+    pub(super) fn reaching(&self, mut n: usize, origin: DVec3, normal: Option<DVec3>) -> f64 {
+        let mut p = 1.0;
+        while let Some(&parent) = self.parents.get(n).filter(|&&p| p != NONE) {
+            let parent = parent as usize;
+            let Some(left) = self.left_probability(parent, origin, normal) else {
+                return 0.0;
+            };
+            p *= if n == parent + 1 { left } else { 1.0 - left };
+            n = parent;
+        }
+        p
+    }
+
+    /// The probability that the walk at inner node `n` goes to its first child; `None`
+    /// where it can go to neither (see [`PdfHittable::sample_light`]).
+    ///
+    /// By importance; where both children's is 0 (every light faces away from the point,
+    /// or is too dim to count), by power, among the children not wholly below the
+    /// horizon. Where both are (the parent's box reached above the horizon, its children's
+    /// do not), the walk ends without a light, as pbrt-v4's `BVHLightSampler` does: so a
+    /// light below the horizon is never picked.
+    #[inline]
+    pub(super) fn left_probability(
+        &self,
+        n: usize,
+        origin: DVec3,
+        normal: Option<DVec3>,
+    ) -> Option<f64> {
+        let (a, b) = (
+            &self.nodes[n + 1].cluster,
+            &self.nodes[self.nodes[n].index as usize].cluster,
+        );
+        share(a.importance(origin, normal), b.importance(origin, normal)).or_else(|| {
+            let seen = |c: &Cluster| {
+                if normal.is_some_and(|m| c.below(origin, m)) {
+                    0.0
+                } else {
+                    c.power
+                }
+            };
+            share(seen(a), seen(b))
+        })
+    }
+
+    /// The walk from the root: the light `x` in `[0, 1)` picks, and what is left of `x`,
+    /// rescaled to `[0, 1)`; `None` for an empty tree.
+    /// `None` for an empty tree, and where the walk picks no light (see
+    /// [`LightTree::left_probability`]).
+    pub(super) fn pick(
+        &self,
+        origin: DVec3,
+        normal: Option<DVec3>,
+        x: f64,
+    ) -> Option<(usize, f64)> {
+        if self.nodes.is_empty() || self.hidden(origin, normal) {
+            return None;
+        }
+        // Into [0, 1) (NaN to 0); each choice rescales what is left of it to [0, 1).
+        let below_one = 1.0 - f64::EPSILON / 2.0;
+        let mut x = if x > 0.0 { x.min(below_one) } else { 0.0 };
+        let mut n = 0;
+        while !self.nodes[n].leaf {
+            let left = self.left_probability(n, origin, normal)?;
+            if x < left {
+                x /= left;
+                n += 1;
+            } else {
+                x = (x - left) / (1.0 - left);
+                n = self.nodes[n].index as usize;
+            }
+            x = x.clamp(0.0, below_one);
+        }
+        Some((self.nodes[n].index as usize, x))
+    }
+
+    pub(super) fn sample(&self, origin: DVec3, normal: Option<DVec3>, u: DVec2) -> DVec3 {
+        if !origin.is_finite() {
+            return DVec3::ZERO;
+        }
+        self.pick(origin, normal, u.x)
+            .map_or(DVec3::ZERO, |(i, x)| {
+                self.lights[i].sample_direction(origin, DVec2::new(x, u.y))
+            })
+    }
+
+    pub(super) fn density(&self, origin: DVec3, normal: Option<DVec3>, direction: DVec3) -> f64 {
+        let ray = Ray::new(origin, direction);
+        if self.nodes.is_empty() || !ray.is_valid() || self.hidden(origin, normal) {
+            return 0.0;
+        }
+        if let [only] = self.lights.as_slice() {
+            // Picked always: its own density, and no box test before it.
+            return only.pdf_value(origin, direction);
+        }
+        // The lights the direction reaches, found by the boxes the ray meets (a light it
+        // reaches lies in the box of every node above it); the walk's probability only for
+        // those (most directions reach none, or one), from its leaf up.
+        let mut stack = [0u32; MAX_DEPTH + 2];
+        let mut top = 1;
+        let mut sum = 0.0;
+        while top > 0 {
+            top -= 1;
+            let n = stack[top] as usize;
+            let node = &self.nodes[n];
+            if !node.cluster.bbox.hit(&ray, Interval::FORWARD) {
+                continue;
+            }
+            if node.leaf {
+                let pdf = self.lights[node.index as usize].pdf_value(origin, direction);
+                if pdf > 0.0 {
+                    sum += self.reaching(n, origin, normal) * pdf;
+                }
+                continue;
+            }
+            stack[top] = node.index;
+            stack[top + 1] = n as u32 + 1;
+            top += 2;
+        }
+        sum
+    }
+}

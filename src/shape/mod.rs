@@ -1,0 +1,18 @@
+//! The shapes: the infinite [`Plane`] and the flat shapes on it ([`Quad`] with its
+//! interiors), [`Sphere`] and [`Cuboid`]. The plane's exact-crossing machinery, which the
+//! flat shapes decide by, sits apart in `crossing.rs`.
+
+mod crossing;
+mod cuboid;
+mod interior;
+mod plane;
+mod quad;
+mod sphere;
+
+pub use crossing::CrossingRegion;
+pub(crate) use crossing::{Crossing, Decided, Pending};
+pub use cuboid::Cuboid;
+pub use interior::{Disk, Exact, Interior, Meets, Parallelogram, Ring, Triangle};
+pub use plane::{Plane, PlaneHit};
+pub use quad::Quad;
+pub use sphere::Sphere;
