@@ -202,11 +202,9 @@ fn radiance<W: Hittable, const BG: bool, const EMIT: bool, const LIGHTS: bool>(
                 throughput *= attenuation;
                 direction
             }
-            Scatter::Diffuse(albedo) if LIGHTS && scene.next_event => {
-                let lights = scene
-                    .lights
-                    .as_deref()
-                    .expect("LIGHTS: the scene has lights");
+            // (With every effect forced on, a scene may have no lights to sample.)
+            Scatter::Diffuse(albedo) if LIGHTS && scene.next_event && scene.lights.is_some() => {
+                let lights = scene.lights.as_deref().expect("the guard checked");
                 let at = ShadingContext::from(hit);
                 let u = DVec2::new(rng.random(), rng.random());
                 color += throughput * albedo * next_event(scene, lights, hit, &at, u);
@@ -216,13 +214,10 @@ fn radiance<W: Hittable, const BG: bool, const EMIT: bool, const LIGHTS: bool>(
                 throughput *= albedo;
                 direction
             }
-            Scatter::Diffuse(albedo) if LIGHTS => {
+            Scatter::Diffuse(albedo) if LIGHTS && scene.lights.is_some() => {
                 // Half the samples toward a light, half cosine-weighted; the weight is the
                 // Lambertian density over the mixture's.
-                let lights = scene
-                    .lights
-                    .as_deref()
-                    .expect("LIGHTS: the scene has lights");
+                let lights = scene.lights.as_deref().expect("the guard checked");
                 let direction = if rng.random::<f64>() < 0.5 {
                     let u = DVec2::new(rng.random(), rng.random());
                     lights.sample_direction(hit.point, u)
