@@ -1,11 +1,13 @@
 //! `--lights`: what picking among many lights costs: hitkit's `LightTree` against a
-//! power-weighted `Mixture` of the same lights, per sample and per density query, as the
-//! number of lights grows; and the tree's build time and memory per light.
+//! power-weighted `Mixture` of the same lights, per next-event sample (`sample_light`: the
+//! pick, the light's own sample, the first light surface along it and the density) and per
+//! density query (`light_pdf`), from shading points with normals, as the number of lights
+//! grows; and the tree's build time and memory per light.
 
 use std::hint::black_box;
 
 use hitkit::glam::{DVec2, DVec3};
-use hitkit::{Emission, LightTree, Mixture, PdfHittable, Quad};
+use hitkit::{Emission, LightTree, Mixture, PdfHittable, Quad, ShadingContext};
 
 use super::{Args, IN_USE, median_time, reset_peak, scene};
 use std::sync::atomic::Ordering::Relaxed;
@@ -17,6 +19,11 @@ const COUNTS: [usize; 4] = [10, 1_000, 100_000, 1_000_000];
 /// mixture at the largest counts, where each visits every light.
 const POINTS: usize = 10_000;
 const MIXTURE_QUERIES_AT_MOST: usize = 100_000_000;
+
+/// A sample's direction, or the zero vector where there is none.
+fn direction(light: &impl PdfHittable, at: &ShadingContext, u: DVec2) -> DVec3 {
+    light.sample_light(at, u).map_or(DVec3::ZERO, |s| s.direction)
+}
 
 /// `n` small panels, 1 cm to 10 cm across, facing every way, spread through a cube of 100 m,
 /// with powers over four decades; the same for every seed.
@@ -43,12 +50,12 @@ pub(super) fn run(args: &Args) -> Vec<String> {
         eprintln!("{n} lights");
         let (quads, powers, emission) = lights(n, args.seed);
         let mut rng = scene::SplitMix::new(args.seed.wrapping_add(1));
-        let points: Vec<(DVec3, DVec3, DVec2)> = (0..POINTS)
+        let points: Vec<(ShadingContext, DVec2)> = (0..POINTS)
             .map(|_| {
                 let p = 100.0 * rng.vec3();
                 let normal = (rng.vec3() - 0.5).normalize_or(DVec3::Y);
                 let u = rng.vec3();
-                (p, normal, DVec2::new(u.x, u.y))
+                (ShadingContext::on_surface(p, normal), DVec2::new(u.x, u.y))
             })
             .collect();
         // The tree's heap, measured by the counting allocator (the lights' own `Vec` too).
@@ -68,7 +75,7 @@ pub(super) fn run(args: &Args) -> Vec<String> {
             |()| {
                 points
                     .iter()
-                    .map(|&(p, normal, u)| tree.with_normal(normal).sample_direction(p, u))
+                    .map(|(at, u)| direction(&tree, at, *u))
                     .collect::<Vec<_>>()
             },
         );
@@ -79,7 +86,7 @@ pub(super) fn run(args: &Args) -> Vec<String> {
                 points
                     .iter()
                     .zip(&directions)
-                    .map(|(&(p, normal, _), &d)| tree.with_normal(normal).pdf_value(p, d))
+                    .map(|((at, _), &d)| tree.light_pdf(at, d))
                     .collect::<Vec<f64>>()
             },
         );
@@ -87,18 +94,19 @@ pub(super) fn run(args: &Args) -> Vec<String> {
             densities.iter().all(|&pdf| pdf.is_finite() && pdf >= 0.0),
             "densities are numbers"
         );
+        // A mixture's sample finds the first light along its direction and its density,
+        // each visiting every light: at most this many queries in all.
+        let queries = (MIXTURE_QUERIES_AT_MOST / n).clamp(1, POINTS);
         let (mixture_sample, mixture_directions) = median_time(
             args.runs,
             || (),
             |()| {
-                points
+                points[..queries]
                     .iter()
-                    .map(|&(p, _, u)| mixture.sample_direction(p, u))
+                    .map(|(at, u)| direction(&mixture, at, *u))
                     .collect::<Vec<_>>()
             },
         );
-        // A mixture's density visits every light: at most this many visits in all.
-        let queries = (MIXTURE_QUERIES_AT_MOST / n).clamp(1, POINTS);
         let (mixture_pdf, _) = median_time(
             args.runs,
             || (),
@@ -106,7 +114,7 @@ pub(super) fn run(args: &Args) -> Vec<String> {
                 points[..queries]
                     .iter()
                     .zip(&mixture_directions)
-                    .map(|(&(p, _, _), &d)| black_box(mixture.pdf_value(p, d)))
+                    .map(|((at, _), &d)| black_box(mixture.light_pdf(at, d)))
                     .sum::<f64>()
             },
         );
@@ -116,7 +124,7 @@ pub(super) fn run(args: &Args) -> Vec<String> {
             kept as f64 / n as f64,
             per(tree_sample, POINTS),
             per(tree_pdf, POINTS),
-            per(mixture_sample, POINTS),
+            per(mixture_sample, queries),
             per(mixture_pdf, queries),
         ));
     }
@@ -126,13 +134,13 @@ pub(super) fn run(args: &Args) -> Vec<String> {
 /// Prints the table.
 pub(super) fn print(rows: &[String], args: &Args) {
     println!(
-        "{}; single-threaded; median of {} runs; {POINTS} shading points with random normals in a 100 m cube of small panels facing every way, powers over four decades; the tree's bytes include the lights it holds ({} bytes a `Quad`)\n",
+        "{}; single-threaded; median of {} runs; {POINTS} shading points with random normals (the mixture's queries at most {MIXTURE_QUERIES_AT_MOST} light visits) in a 100 m cube of small panels facing every way, powers over four decades; the tree's bytes include the lights it holds ({} bytes a `Quad`)\n",
         scene::machine(),
         args.runs,
         std::mem::size_of::<Quad>()
     );
     println!(
-        "| lights | tree build ms | tree bytes per light | tree sample ns | tree density ns | mixture sample ns | mixture density ns |"
+        "| lights | tree build ms | tree bytes per light | tree sample_light ns | tree light_pdf ns | mixture sample_light ns | mixture light_pdf ns |"
     );
     println!("|---:|---:|---:|---:|---:|---:|---:|");
     rows.iter().for_each(|r| println!("{r}"));
