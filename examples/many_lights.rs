@@ -1,7 +1,8 @@
 //! Many lights: a long hall lit by small lamps of varied power (by default 1,000 ceiling
-//! panels and 126 wall sconces), its diffuse bounces aiming at a lamp picked by hitkit's
-//! `LightTree` (by importance from the shading point), by a power-weighted `Mixture`, or
-//! uniformly.
+//! panels and 126 wall sconces), lit by next-event estimation (a shadow ray from each
+//! diffuse hit to a point on a lamp, weighed against the cosine bounce by multiple
+//! importance sampling), the lamp picked by hitkit's `LightTree` (by importance from the
+//! shading point), by a power-weighted `Mixture`, or uniformly.
 //!
 //! `cargo run --release --example many_lights` writes `many_lights.png`;
 //! `-- --lights power` or `-- --lights uniform` picks the other way; `-- --rows N` sets the
@@ -9,9 +10,10 @@
 //!
 //! `-- --compare SECONDS` measures what the choice is worth: for the hall and for the
 //! Cornell box (one light), a reference image by the light tree at `--reference N` samples
-//! per pixel, then each of the three ways rendered one sample per pixel at a time, in
-//! turn (the same seeds for each), until each has had `SECONDS` of rendering; it prints
-//! each one's mean squared error against the reference, at equal time.
+//! per pixel, then each of the three ways, and the tree with the book's one-sample mixture
+//! of light and cosine directions in place of next-event estimation, rendered one sample
+//! per pixel at a time, in turn (the same seeds for each), until each has had `SECONDS` of
+//! rendering; it prints each one's mean squared error against the reference, at equal time.
 
 mod common;
 #[path = "../tests/support/scene.rs"]
@@ -120,10 +122,12 @@ fn number(flag: &str, value: &str, lo: usize, hi: usize) -> Result<usize, String
         .ok_or_else(|| format!("{flag}: `{value}` is not a whole number from {lo} to {hi}"))
 }
 
-const PICKS: [(Pick, &str); 3] = [
-    (Pick::Tree, "light tree"),
-    (Pick::Power, "power-weighted mixture"),
-    (Pick::Uniform, "uniform mixture"),
+/// The ways compared: how a lamp is picked, and whether by next-event estimation.
+const PICKS: [(Pick, bool, &str); 4] = [
+    (Pick::Tree, true, "light tree"),
+    (Pick::Power, true, "power-weighted mixture"),
+    (Pick::Uniform, true, "uniform mixture"),
+    (Pick::Tree, false, "light tree, the book's one-sample mixture (no shadow rays)"),
 ];
 
 /// The error table for the hall and the Cornell box.
@@ -173,7 +177,7 @@ fn compare_all(
     Ok(())
 }
 
-/// One scene's rows: the reference, then the three ways in turn for `budget` each.
+/// One scene's rows: the reference, then the ways in turn for `budget` each.
 fn compare<W: Hittable>(
     name: &str,
     scene: impl Fn(Pick) -> Scene<W>,
@@ -189,7 +193,13 @@ fn compare<W: Hittable>(
     let truth = render(&truth, &settings, truth.effects())?;
     let reference_noise = truth.variance.iter().sum::<f64>() / truth.variance.len() as f64;
     // Every way's scene built first: the build is not render time.
-    let scenes: Vec<Scene<W>> = PICKS.iter().map(|&(pick, _)| scene(pick)).collect();
+    let scenes: Vec<Scene<W>> = PICKS
+        .iter()
+        .map(|&(pick, next_event, _)| Scene {
+            next_event,
+            ..scene(pick)
+        })
+        .collect();
     let mut sums: Vec<Vec<Color>> = vec![vec![Color::ZERO; truth.pixels.len()]; PICKS.len()];
     let mut spent = [Duration::ZERO; PICKS.len()];
     let mut passes = [0usize; PICKS.len()];
@@ -202,7 +212,7 @@ fn compare<W: Hittable>(
                 continue;
             }
             // The same seeds for every way (common random numbers): with one lamp, which
-            // every way picks always, the three render the same image pass for pass.
+            // every way picks always, the next-event ways render the same image pass for pass.
             settings.seed = passes[k] as u64;
             let start = Instant::now();
             let pass: Rendered = render(&scenes[k], &settings, scenes[k].effects())?;
@@ -228,7 +238,7 @@ fn compare<W: Hittable>(
     let mut lines: Vec<String> = PICKS
         .iter()
         .enumerate()
-        .map(|(k, (_, way))| {
+        .map(|(k, (_, _, way))| {
             format!(
                 "| {name} | {way} | {} | {:.1} | {:.3e} | {:.3} |",
                 passes[k],
