@@ -127,7 +127,11 @@ const PICKS: [(Pick, bool, &str); 4] = [
     (Pick::Tree, true, "light tree"),
     (Pick::Power, true, "power-weighted mixture"),
     (Pick::Uniform, true, "uniform mixture"),
-    (Pick::Tree, false, "light tree, the book's one-sample mixture (no shadow rays)"),
+    (
+        Pick::Tree,
+        false,
+        "light tree, the book's one-sample mixture (no shadow rays)",
+    ),
 ];
 
 /// The error table for the hall and the Cornell box.

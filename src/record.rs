@@ -290,7 +290,7 @@ impl HitRecord {
     }
 
     /// Where [`spawn_ray`](Self::spawn_ray) starts a ray along `direction`.
-    #[inline]
+    #[inline(always)]
     fn spawn_origin(&self, direction: DVec3) -> DVec3 {
         let toward = if direction.dot(self.normal) < 0.0 {
             -self.normal

@@ -276,7 +276,7 @@ impl Plane {
     /// `uv`. The point is `q + alpha u + beta v`, which lies on the plane to within
     /// rounding whatever the error of `alpha` and `beta`; its error bound is that rounding.
     /// `None` where the point overflows (coordinates near `f64::MAX`).
-    #[inline]
+    #[inline(always)]
     #[must_use]
     pub fn hit_record(&self, ray: &Ray, hit: PlaneHit, uv: DVec2) -> Option<HitRecord> {
         let (au, bv) = (hit.alpha * self.u, hit.beta * self.v);

@@ -22,7 +22,9 @@ const MIXTURE_QUERIES_AT_MOST: usize = 100_000_000;
 
 /// A sample's direction, or the zero vector where there is none.
 fn direction(light: &impl PdfHittable, at: &ShadingContext, u: DVec2) -> DVec3 {
-    light.sample_light(at, u).map_or(DVec3::ZERO, |s| s.direction)
+    light
+        .sample_light(at, u)
+        .map_or(DVec3::ZERO, |s| s.direction)
 }
 
 /// `n` small panels, 1 cm to 10 cm across, facing every way, spread through a cube of 100 m,
