@@ -111,6 +111,16 @@ impl LightSample {
         at: &ShadingContext,
         direction: DVec3,
     ) -> Option<Self> {
+        Self::along_with(light, at, direction, |d| light.light_pdf(at, d))
+    }
+
+    /// [`LightSample::along`] with the density of the direction (as it is kept) from `pdf`.
+    pub(crate) fn along_with<L: PdfHittable + ?Sized>(
+        light: &L,
+        at: &ShadingContext,
+        direction: DVec3,
+        pdf: impl FnOnce(DVec3) -> f64,
+    ) -> Option<Self> {
         // Unit directions (what hitkit's lights return) are kept bit for bit, so that the
         // density is the one of the very direction the sampler tested to reach the light.
         let length = crate::math::length(direction);
@@ -124,7 +134,7 @@ impl LightSample {
             return None;
         }
         let record = light.hit(&ray, Interval::FORWARD)?;
-        let pdf = light.light_pdf(at, direction);
+        let pdf = pdf(direction);
         let distance = record.t;
         (pdf > 0.0 && pdf.is_finite() && distance.is_finite()).then_some(Self {
             direction,

@@ -285,8 +285,7 @@ impl<T: PdfHittable> PdfHittable for LightTree<T> {
     /// reach lies below it, `None`; the probabilities of the lights then sum to less than
     /// 1 by that chance, which [`light_pdf`](PdfHittable::light_pdf) accounts for.
     fn sample_light(&self, at: &ShadingContext, u: DVec2) -> Option<LightSample> {
-        let direction = self.sample(at.point, at.unit_normal(), u);
-        LightSample::along(self, at, direction)
+        self.sample_light_at(at, u)
     }
 
     /// As [`pdf_value`](PdfHittable::pdf_value), with the context's normal (see
@@ -400,13 +399,16 @@ mod tests {
                     prop_assert_eq!(pi, 0.0);
                 }
             }
-            let normal = normal.and_then(DVec3::try_normalize);
+            let at = ShadingContext { point: origin, normal };
+            let normal = at.unit_normal();
             const N: usize = 4096;
             let (mut counts, mut none) = (alloc::vec![0usize; specs.len()], 0usize);
             for k in 0..N {
                 match tree.pick(origin, normal, (k as f64 + 0.5) / N as f64) {
-                    Some((i, rest)) => {
+                    Some((i, rest, walked)) => {
                         prop_assert!((0.0..1.0).contains(&rest));
+                        // The walk's own product is the one found from the leaf up.
+                        prop_assert_eq!(walked.probability(), tree.probability(&at, i));
                         counts[i] += 1;
                     }
                     None => none += 1,
@@ -446,7 +448,7 @@ mod tests {
             prop_assert!((pdf - loop_sum).abs() <= rounding * loop_sum, "{} against {}", pdf, loop_sum);
             // A light that can be reached from here gets a density: the sampled direction
             // reaches the light it was drawn toward.
-            if let Some((i, _)) = tree.pick(origin, normal.and_then(DVec3::try_normalize), u[0])
+            if let Some((i, _, _)) = tree.pick(origin, normal.and_then(DVec3::try_normalize), u[0])
                 && tree.lights()[i].pdf_value(origin, d) > 0.0
             {
                 prop_assert!(pdf > 0.0);

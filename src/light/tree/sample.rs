@@ -5,8 +5,8 @@ use glam::{DVec2, DVec3};
 
 use super::cluster::{Cluster, share};
 use super::{LightTree, MAX_DEPTH, NONE};
-use crate::ShadingContext;
 use crate::{Interval, PdfHittable, Ray};
+use crate::{LightSample, ShadingContext};
 
 impl<T: PdfHittable> LightTree<T> {
     /// The probability that a sample from `at` picks light `i`: the product of the
@@ -81,16 +81,15 @@ impl<T: PdfHittable> LightTree<T> {
         })
     }
 
-    /// The walk from the root: the light `x` in `[0, 1)` picks, and what is left of `x`,
-    /// rescaled to `[0, 1)`; `None` for an empty tree.
-    /// `None` for an empty tree, and where the walk picks no light (see
-    /// [`LightTree::left_probability`]).
+    /// The walk from the root: the light `x` in `[0, 1)` picks, what is left of `x`,
+    /// rescaled to `[0, 1)`, and the choices made; `None` for an empty tree, and where the
+    /// walk picks no light (see [`LightTree::left_probability`]).
     pub(super) fn pick(
         &self,
         origin: DVec3,
         normal: Option<DVec3>,
         x: f64,
-    ) -> Option<(usize, f64)> {
+    ) -> Option<(usize, f64, Walked)> {
         if self.nodes.is_empty() || self.hidden(origin, normal) {
             return None;
         }
@@ -98,18 +97,22 @@ impl<T: PdfHittable> LightTree<T> {
         let below_one = 1.0 - f64::EPSILON / 2.0;
         let mut x = if x > 0.0 { x.min(below_one) } else { 0.0 };
         let mut n = 0;
+        let mut walked = Walked::default();
         while !self.nodes[n].leaf {
             let left = self.left_probability(n, origin, normal)?;
             if x < left {
                 x /= left;
                 n += 1;
+                walked.push(left);
             } else {
                 x = (x - left) / (1.0 - left);
                 n = self.nodes[n].index as usize;
+                walked.push(1.0 - left);
             }
             x = x.clamp(0.0, below_one);
         }
-        Some((self.nodes[n].index as usize, x))
+        walked.leaf = n;
+        Some((self.nodes[n].index as usize, x, walked))
     }
 
     pub(super) fn sample(&self, origin: DVec3, normal: Option<DVec3>, u: DVec2) -> DVec3 {
@@ -117,12 +120,40 @@ impl<T: PdfHittable> LightTree<T> {
             return DVec3::ZERO;
         }
         self.pick(origin, normal, u.x)
-            .map_or(DVec3::ZERO, |(i, x)| {
+            .map_or(DVec3::ZERO, |(i, x, _)| {
                 self.lights[i].sample_direction(origin, DVec2::new(x, u.y))
             })
     }
 
+    /// [`PdfHittable::sample_light`]: the walk's pick sampled, its surface found, and the
+    /// density, in which the picked light's probability is the walk's own (the same
+    /// product, bit for bit, that the density finds by walking up from its leaf).
+    pub(super) fn sample_light_at(&self, at: &ShadingContext, u: DVec2) -> Option<LightSample> {
+        let (origin, normal) = (at.point, at.unit_normal());
+        if !origin.is_finite() {
+            return None;
+        }
+        let (i, x, walked) = self.pick(origin, normal, u.x)?;
+        let direction = self.lights[i].sample_direction(origin, DVec2::new(x, u.y));
+        let known = (walked.leaf, walked.probability());
+        LightSample::along_with(self, at, direction, |d| {
+            self.density_with(origin, normal, d, Some(known))
+        })
+    }
+
     pub(super) fn density(&self, origin: DVec3, normal: Option<DVec3>, direction: DVec3) -> f64 {
+        self.density_with(origin, normal, direction, None)
+    }
+
+    /// [`LightTree::density`], given the probability of reaching one leaf where it is
+    /// known (`(node, probability)`).
+    fn density_with(
+        &self,
+        origin: DVec3,
+        normal: Option<DVec3>,
+        direction: DVec3,
+        known: Option<(usize, f64)>,
+    ) -> f64 {
         let ray = Ray::new(origin, direction);
         if self.nodes.is_empty() || !ray.is_valid() || self.hidden(origin, normal) {
             return 0.0;
@@ -147,7 +178,11 @@ impl<T: PdfHittable> LightTree<T> {
             if node.leaf {
                 let pdf = self.lights[node.index as usize].pdf_value(origin, direction);
                 if pdf > 0.0 {
-                    sum += self.reaching(n, origin, normal) * pdf;
+                    let p = match known {
+                        Some((leaf, p)) if leaf == n => p,
+                        _ => self.reaching(n, origin, normal),
+                    };
+                    sum += p * pdf;
                 }
                 continue;
             }
@@ -156,5 +191,39 @@ impl<T: PdfHittable> LightTree<T> {
             top += 2;
         }
         sum
+    }
+}
+
+/// The choices of a walk down the tree, root first, and the leaf it reached.
+pub(super) struct Walked {
+    choices: [f64; MAX_DEPTH],
+    depth: usize,
+    leaf: usize,
+}
+
+impl Default for Walked {
+    fn default() -> Self {
+        Self {
+            choices: [1.0; MAX_DEPTH],
+            depth: 0,
+            leaf: 0,
+        }
+    }
+}
+
+impl Walked {
+    #[inline]
+    fn push(&mut self, p: f64) {
+        self.choices[self.depth] = p;
+        self.depth += 1;
+    }
+
+    /// The product of the choices, leaf first, as [`LightTree::reaching`] multiplies them.
+    #[inline]
+    pub(super) fn probability(&self) -> f64 {
+        self.choices[..self.depth]
+            .iter()
+            .rev()
+            .fold(1.0, |p, &c| p * c)
     }
 }
