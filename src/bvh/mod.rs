@@ -1,5 +1,10 @@
 //! A bounding volume hierarchy over any [`Hittable`]: flat, built with binned SAH,
 //! traversed front to back without recursion or allocation.
+//!
+//! By operation: `node.rs` (a node's `f32` boxes and how a box becomes them), `build.rs`
+//! (binned SAH), `collapse.rs` (the binary tree into nodes of four), `traverse.rs`,
+//! `refit.rs`, `insert.rs` (the insertion search), `reinsert.rs` (`optimize`) and
+//! `update.rs` (the public API of changes: numbering, insert, remove, rebuild).
 
 mod build;
 mod collapse;

@@ -1,6 +1,8 @@
 //! [`TriangleMesh`]: triangles that share their vertices, with a tree of their own,
 //! watertight by construction.
 
+// By operation: build, update (refit), query (the tree's walks), intersect (the face
+// test), sample (a mesh as a light), face (one face as a shape).
 mod build;
 mod face;
 mod intersect;
