@@ -88,9 +88,14 @@ pub(crate) fn direction_of(v: DVec3) -> Option<DVec3> {
 /// `sample_direction` returns, tested for reaching the light after this rounding.
 #[inline]
 pub(crate) fn unit(d: DVec3) -> DVec3 {
-    if d == DVec3::ZERO || !d.is_finite() {
+    let squared = d.length_squared();
+    if squared.is_normal() && squared < f64::INFINITY {
+        // One division for the three components: within an ulp or two of `d / |d|`.
+        d * (1.0 / crate::math::sqrt(squared))
+    } else if d == DVec3::ZERO || !d.is_finite() {
         d
     } else {
+        // A length whose square over- or underflows: scaled first.
         crate::math::unit_and_length(d).0
     }
 }
