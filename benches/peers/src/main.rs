@@ -6,6 +6,8 @@
 //!
 //! `cargo run --release -p hitkit-peers -- --help`
 
+#[cfg(feature = "embree")]
+mod embree;
 mod lights;
 #[path = "../../../tests/support/scene.rs"]
 mod scene;
@@ -54,9 +56,12 @@ Options:
                  query, at 10 to 1,000,000 lights, and the tree's build time and bytes
   --triad        instead of the tables above, what a path tracer traces: primary rays
                  from a camera, a cosine bounce and a shadow ray to a lamp from each
-                 primary hit, on the bunny, the book's Cornell box, a crowd of turned
-                 bunnies on a floor and the closed sphere from inside: TriangleMesh and
-                 Bvh<Quad<Triangle>> against obvhs, with node visits and face tests per ray
+                 primary hit, on the bunny, the book's Cornell box (its lamp inside, and
+                 above a skylight in the ceiling), a crowd of turned bunnies on a floor and
+                 the closed sphere from inside: TriangleMesh and Bvh<Quad<Triangle>> against
+                 obvhs, with node visits and face tests per ray; built with
+                 `--features embree` (needs `apt-get install libembree-dev`), against
+                 Embree 3 too, with each library's bytes
   --crowd N      bunnies in the triad's crowd, 0 for none [default: 9]
   --ftz          with --triad: hitkit's rows again with the CPU's flush-to-zero and
                  denormals-are-zero modes on (x86_64), and the answers that change

@@ -140,6 +140,45 @@ fn cornell() -> TriadScene {
     }
 }
 
+/// The book's Cornell box with its lamp moved above a skylight: the ceiling is four
+/// quads around a hole under the lamp, so that most shadow rays from the room are stopped
+/// by the ceiling or a wall (the case of a renderer's rooms, where most lights are out of
+/// sight), and the rest pass through the hole.
+fn skylight() -> TriadScene {
+    let mut b = Builder::default();
+    let (x, y, z) = (DVec3::X * 555.0, DVec3::Y * 555.0, DVec3::Z * 555.0);
+    b.quad(x, y, z);
+    b.quad(DVec3::ZERO, y, z);
+    b.quad(DVec3::ZERO, x, z);
+    b.quad(z, x, y);
+    // The ceiling at y = 555 around the hole x in [213, 343], z in [227, 332].
+    let at = |px: f64, pz: f64| DVec3::new(px, 555.0, pz);
+    let (x0, x1, z0, z1) = (213.0, 343.0, 227.0, 332.0);
+    b.quad(at(0.0, 0.0), DVec3::X * x0, DVec3::Z * 555.0);
+    b.quad(at(x1, 0.0), DVec3::X * (555.0 - x1), DVec3::Z * 555.0);
+    b.quad(at(x0, 0.0), DVec3::X * (x1 - x0), DVec3::Z * z0);
+    b.quad(at(x0, z1), DVec3::X * (x1 - x0), DVec3::Z * (555.0 - z1));
+    b.cuboid(
+        DVec3::new(165.0, 330.0, 165.0),
+        15.0,
+        DVec3::new(265.0, 0.0, 295.0),
+    );
+    b.cuboid(DVec3::splat(165.0), -18.0, DVec3::new(130.0, 0.0, 65.0));
+    TriadScene {
+        scene: b.finish("Cornell box, lamp above a skylight"),
+        camera: Camera {
+            eye: DVec3::new(278.0, 278.0, -800.0),
+            target: DVec3::new(278.0, 278.0, 0.0),
+            fov: 40.0,
+        },
+        lamp: Lamp {
+            corner: DVec3::new(343.0, 755.0, 332.0),
+            u: DVec3::new(-130.0, 0.0, 0.0),
+            v: DVec3::new(0.0, 0.0, -105.0),
+        },
+    }
+}
+
 /// A lamp over the box `(lo, hi)`, half its height above it, `fraction` of its width.
 fn lamp_over((lo, hi): (DVec3, DVec3), fraction: f64) -> Lamp {
     let size = hi - lo;
@@ -250,7 +289,8 @@ fn inside_sphere(levels: u32) -> TriadScene {
     }
 }
 
-/// The triad's scenes: the model (if it loaded), the Cornell box, the crowd of copies of
+/// The triad's scenes: the model (if it loaded), the Cornell box (its lamp inside, and
+/// above a skylight), the crowd of copies of
 /// the model, the closed sphere from inside.
 pub fn scenes(model_scene: Option<&Scene>, args: &Args) -> Vec<TriadScene> {
     let mut scenes = Vec::new();
@@ -258,6 +298,7 @@ pub fn scenes(model_scene: Option<&Scene>, args: &Args) -> Vec<TriadScene> {
         scenes.push(model(m));
     }
     scenes.push(cornell());
+    scenes.push(skylight());
     if let Some(m) = model_scene.filter(|_| args.crowd > 0) {
         scenes.push(crowd(m, args.crowd));
     }
@@ -318,7 +359,7 @@ fn make_rays(ts: &TriadScene, mesh: &TriangleMesh, side: usize, seed: u64) -> Ra
 const SHADOW: Interval = Interval::new(0.0, 1.0);
 
 /// One library's answers: closest hits (face number, `t`) and occlusion.
-trait Library {
+pub(crate) trait Library {
     fn name(&self) -> String;
     fn closest(&self, ray: &Ray) -> Hit;
     fn occluded(&self, ray: &Ray) -> bool;
@@ -416,7 +457,7 @@ fn obvhs_ray(ray: &Ray, t_max: f32) -> obvhs::ray::Ray {
 }
 
 /// obvhs's own start (`cwbvh::node::EPSILON`).
-const OBVHS_T_MIN: f32 = 1e-4;
+pub(crate) const OBVHS_T_MIN: f32 = 1e-4;
 
 /// obvhs's node visits and leaf tests for one ray, through its exported traversal macro
 /// (the loop its own `ray_traverse` and `ray_traverse_miss` run): `leaf` returns the
@@ -552,7 +593,7 @@ fn median(times: &mut [Duration]) -> Duration {
 /// Sets the CPU's flush-to-zero and denormals-are-zero modes (x86_64's MXCSR bits 15 and
 /// 6) on or off, returning the register's previous value.
 #[cfg(target_arch = "x86_64")]
-fn ftz_daz(on: bool) -> u32 {
+pub(crate) fn ftz_daz(on: bool) -> u32 {
     let mut old = 0u32;
     // SAFETY: reads and writes the SSE control register only; every other bit is kept.
     unsafe {
@@ -564,7 +605,7 @@ fn ftz_daz(on: bool) -> u32 {
 }
 
 #[cfg(not(target_arch = "x86_64"))]
-fn ftz_daz(_: bool) -> u32 {
+pub(crate) fn ftz_daz(_: bool) -> u32 {
     0
 }
 
@@ -628,6 +669,8 @@ fn faces_differ(a: &[Hit], b: &[Hit]) -> String {
 pub fn run(scenes: &[TriadScene], args: &Args) {
     let (mut speed, mut counts, mut sets, mut notes) =
         (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    #[allow(unused_mut)]
+    let mut memory: Vec<String> = Vec::new();
     for ts in scenes {
         let scene = &ts.scene;
         let name = &scene.name;
@@ -673,13 +716,29 @@ pub fn run(scenes: &[TriadScene], args: &Args) {
                 .collect(),
             tree: leaf_tree,
         };
-        let libs: Vec<Box<dyn Library + '_>> = vec![
+        #[allow(unused_mut)]
+        let mut libs: Vec<Box<dyn Library + '_>> = vec![
             Box::new(Mesh(mesh.clone(), &position)),
             Box::new(own),
             Box::new(Generic(Bvh::new(quads.clone()))),
             Box::new(leaf),
-            Box::new(MeshFind(mesh)),
+            Box::new(MeshFind(mesh.clone())),
         ];
+        // The ceiling, where it is built in (row 5).
+        #[cfg(feature = "embree")]
+        {
+            let embree = crate::embree::Embree::new(&scene.vertices, &scene.faces, &position);
+            let faces = quads.len() as f64;
+            memory.push(format!(
+                "| {name} | {} | {} | {:.1} | {:.1} |",
+                mesh.heap_bytes(),
+                embree.bytes,
+                mesh.heap_bytes() as f64 / faces,
+                embree.bytes as f64 / faces,
+            ));
+            libs.push(Box::new(embree));
+        }
+        let embree_row = (libs.len() > 5).then_some(5);
         // Answers first (untimed), against the mesh's; then FTZ/DAZ's effect on them.
         let reference = answer(libs[0].as_ref(), &rays);
         let hits = |a: &[Hit]| a.iter().flatten().count();
@@ -792,8 +851,14 @@ pub fn run(scenes: &[TriadScene], args: &Args) {
             // to obvhs with the same leaf test (row 3).
             let against = if i == 2 { 3 } else { 1 };
             let ratio = |k: usize| {
-                if i == 1 || i == 3 {
+                if i == 1 || i == 3 || Some(i) == embree_row {
                     String::new()
+                } else if let Some(e) = embree_row {
+                    format!(
+                        " ({:.2}x; {:.2}x)",
+                        mrays[v][k] / mrays[against][k],
+                        mrays[v][k] / mrays[e][k]
+                    )
                 } else {
                     format!(" ({:.2}x)", mrays[v][k] / mrays[against][k])
                 }
@@ -823,7 +888,7 @@ pub fn run(scenes: &[TriadScene], args: &Args) {
     println!("|---|---:|---:|---:|---:|---:|");
     sets.iter().for_each(|r| println!("{r}"));
     println!(
-        "\nMrays/s; in brackets hitkit's against obvhs on its own triangles (for `Bvh<Quad<Triangle>>`, against obvhs with hitkit's test):\n"
+        "\nMrays/s; in brackets hitkit's against obvhs on its own triangles (for `Bvh<Quad<Triangle>>`, against obvhs with hitkit's test), and where Embree is built in, then against Embree:\n"
     );
     println!("| scene | library | primary | bounce | shadow |");
     println!("|---|---|---:|---:|---:|");
@@ -836,6 +901,14 @@ pub fn run(scenes: &[TriadScene], args: &Args) {
     );
     println!("|---|---|---:|---:|---:|---:|---:|---:|");
     counts.iter().for_each(|r| println!("{r}"));
+    if !memory.is_empty() {
+        println!("\nMemory after the build: TriangleMesh::heap_bytes, Embree's memory monitor\n");
+        println!(
+            "| scene | TriangleMesh bytes | Embree bytes | TriangleMesh bytes/face | Embree bytes/face |"
+        );
+        println!("|---|---:|---:|---:|---:|");
+        memory.iter().for_each(|r| println!("{r}"));
+    }
     if !notes.is_empty() {
         println!();
         notes.iter().for_each(|n| println!("{n}"));
