@@ -156,6 +156,7 @@ mod mesh;
 mod ray;
 mod record;
 mod shape;
+mod simd;
 
 pub use glam;
 

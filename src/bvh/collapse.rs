@@ -1,4 +1,4 @@
-//! The binary tree the build makes (pairs of children), collapsed into nodes of four.
+//! The binary tree the build makes (pairs of children), collapsed into nodes of eight.
 
 use alloc::vec::Vec;
 
@@ -9,7 +9,7 @@ use glam::Vec4;
 use super::WIDTH;
 
 /// Two sibling nodes of the binary tree the SAH build makes, before [`collapse`] turns it
-/// into [`Node`]s of four: their boxes, and for each either two children (`count == 0`,
+/// into [`Node`]s of eight: their boxes, and for each either two children (`count == 0`,
 /// `index` the pair that holds them) or a leaf (`count` objects from `index`).
 #[derive(Clone, Copy)]
 pub(super) struct Pair {
@@ -42,7 +42,7 @@ pub(super) struct Child {
     pub(super) count: u32,
 }
 
-/// The binary tree of `pairs` under `root` as nodes of up to four children, appended to
+/// The binary tree of `pairs` under `root` as nodes of up to eight children, appended to
 /// `nodes` parents first: each node takes its two children, then, while it has a free
 /// lane, opens the inner child of largest surface area (the one a ray most often enters)
 /// in place of it. Lanes keep the binary tree's left-to-right order, so that a walk of the

@@ -1,4 +1,4 @@
-//! A node of the tree as it is stored: four children's `f32` boxes relative to the tree's
+//! A node of the tree as it is stored: eight children's `f32` boxes relative to the tree's
 //! origin, rounded outward, and how a box becomes such offsets (and what that rounding
 //! costs the traversal's bounds).
 
@@ -8,8 +8,8 @@ use super::WIDTH;
 use crate::Aabb;
 use crate::math::Dd;
 
-/// A node: the boxes of up to four children, tested together in SIMD lanes, in two
-/// 64-byte cache lines. The boxes are `f32`, relative to the tree's `origin` (rounded
+/// A node: the boxes of up to eight children, tested together in SIMD lanes (one AVX2
+/// instruction, or two SSE ones, a step), in four 64-byte cache lines. The boxes are `f32`, relative to the tree's `origin` (rounded
 /// outward, so they still hold everything they must, and as precise at 1e9 from the
 /// world's origin as at it), bound by bound (`bounds[axis]` the lower bounds along
 /// `axis`, `bounds[3 + axis]` the upper), so that a ray picks its near and far bound per
@@ -141,7 +141,7 @@ pub(super) fn union(a: &Bounds, b: &Bounds) -> Bounds {
     )
 }
 
-/// A node of four unused lanes.
+/// A node of unused lanes.
 pub(super) fn empty_node() -> Node {
     let mut node = Node {
         bounds: [[0.0; WIDTH]; 6],

@@ -101,7 +101,7 @@ impl<T: Hittable> Bvh<T> {
     /// lanes, taken out and put back, worst first, where the surface area heuristic now
     /// places them, as [`Bvh::insert`] places an object (the reinsertion of Bittner et al.
     /// 2013, "Fast insertion-based optimization of bounding volume hierarchies", made for
-    /// nodes of four). Objects keep their numbers and their positions. A `share` of 0 only
+    /// nodes of eight). Objects keep their numbers and their positions. A `share` of 0 only
     /// shrinks the boxes; a NaN `share` counts as 0.
     ///
     /// Linear in the nodes, plus a search for each lane moved: cheaper than

@@ -19,6 +19,7 @@ use alloc::vec::Vec;
 use glam::{DVec2, DVec3};
 
 use crate::bvh::{Shape, Tree};
+use crate::simd::wide;
 use crate::{Aabb, Found, GeometryError, HitRecord, Hittable, Interval, MaterialId, Ray};
 
 /// An indexed triangle mesh: vertex positions shared by faces that name them by index,
@@ -226,13 +227,19 @@ impl TriangleMesh {
 
 impl Hittable for TriangleMesh {
     fn hit(&self, ray: &Ray, ray_t: Interval) -> Option<HitRecord> {
-        let (position, crossing) = self.closest(ray, ray_t, &mut ())?;
+        let (position, crossing) = wide(
+            #[inline(always)]
+            || self.closest(ray, ray_t, &mut ()),
+        )?;
         self.record_at(ray, position, crossing.t, crossing.barycentric())
     }
 
     /// The face's barycentrics in `coords`, its position in the tree's order in `part`.
     fn find(&self, ray: &Ray, ray_t: Interval) -> Option<Found> {
-        let (position, crossing) = self.closest(ray, ray_t, &mut ())?;
+        let (position, crossing) = wide(
+            #[inline(always)]
+            || self.closest(ray, ray_t, &mut ()),
+        )?;
         Some(Found::new(
             crossing.t,
             crossing.barycentric(),
@@ -255,6 +262,9 @@ impl Hittable for TriangleMesh {
 
     /// Stops at the first face found that the ray crosses within `ray_t`.
     fn occluded(&self, ray: &Ray, ray_t: Interval) -> bool {
-        self.any(ray, ray_t, &mut ())
+        wide(
+            #[inline(always)]
+            || self.any(ray, ray_t, &mut ()),
+        )
     }
 }
