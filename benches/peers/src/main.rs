@@ -63,6 +63,8 @@ Options:
                  `--features embree` (needs `apt-get install libembree-dev`), against
                  Embree 3 too, with each library's bytes
   --crowd N      bunnies in the triad's crowd, 0 for none [default: 9]
+  --only TEXT    with --triad: time only the libraries whose names hold TEXT (for profiles)
+  --scene TEXT   with --triad: only the scenes whose names hold TEXT
   --ftz          with --triad: hitkit's rows again with the CPU's flush-to-zero and
                  denormals-are-zero modes on (x86_64), and the answers that change
   --rays N       incoherent rays per scene [default: 1000000]
@@ -85,6 +87,10 @@ struct Args {
     lights: bool,
     triad: bool,
     crowd: usize,
+    /// With `--triad`: time only the libraries, and keep only the scenes, whose names
+    /// hold these (for profiles).
+    only: Option<String>,
+    scene: Option<String>,
     ftz: bool,
     rays: usize,
     side: usize,
@@ -156,6 +162,8 @@ fn parse_args(mut args: impl Iterator<Item = String>) -> Result<Option<Args>, St
         lights: false,
         triad: false,
         crowd: 9,
+        only: None,
+        scene: None,
         ftz: false,
         rays: 1_000_000,
         side: 1_000,
@@ -193,6 +201,8 @@ fn parse_args(mut args: impl Iterator<Item = String>) -> Result<Option<Args>, St
             "--soups",
             "--sphere",
             "--crowd",
+            "--only",
+            "--scene",
             "--rays",
             "--side",
             "--runs",
@@ -228,6 +238,8 @@ fn parse_args(mut args: impl Iterator<Item = String>) -> Result<Option<Args>, St
                     .map_err(|_| format!("`{flag}`: `{value}` is too large"))?;
             }
             "--side" => parsed.side = count(&flag, &value)?,
+            "--only" => parsed.only = Some(value),
+            "--scene" => parsed.scene = Some(value),
             "--runs" => parsed.runs = count(&flag, &value)?,
             "--offsets" if value.is_empty() => parsed.offsets.clear(),
             "--offsets" => {

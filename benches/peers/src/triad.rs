@@ -305,6 +305,9 @@ pub fn scenes(model_scene: Option<&Scene>, args: &Args) -> Vec<TriadScene> {
     if args.sphere > 0 {
         scenes.push(inside_sphere(args.sphere));
     }
+    if let Some(only) = &args.scene {
+        scenes.retain(|s| s.scene.name.contains(only.as_str()));
+    }
     scenes
 }
 
@@ -825,6 +828,11 @@ pub fn run(scenes: &[TriadScene], args: &Args) {
             } else {
                 vec![]
             })
+            .filter(|&(i, _)| {
+                args.only
+                    .as_ref()
+                    .is_none_or(|only| libs[i].name().contains(only.as_str()))
+            })
             .collect();
         let mut times = vec![[Vec::new(), Vec::new(), Vec::new()]; variants.len()];
         for _ in 0..args.runs {
@@ -846,21 +854,23 @@ pub fn run(scenes: &[TriadScene], args: &Args) {
                 core::array::from_fn(|k| lens[k] as f64 / median(&mut t[k]).as_secs_f64() / 1e6)
             })
             .collect();
+        // Where library `i` was timed (without FTZ/DAZ): its row of `mrays`.
+        let timed = |i: usize| variants.iter().position(|&v| v == (i, false));
         for (v, &(i, ftz)) in variants.iter().enumerate() {
             // The ratio to obvhs on its own triangles (row 1), and for the generic tree,
-            // to obvhs with the same leaf test (row 3).
-            let against = if i == 2 { 3 } else { 1 };
+            // to obvhs with the same leaf test (row 3); then to Embree, where it is built in.
+            let against = timed(if i == 2 { 3 } else { 1 });
+            let embree = embree_row.and_then(timed);
             let ratio = |k: usize| {
                 if i == 1 || i == 3 || Some(i) == embree_row {
+                    return String::new();
+                }
+                let of = |r: Option<usize>| r.map(|r| format!("{:.2}x", mrays[v][k] / mrays[r][k]));
+                let ratios: Vec<String> = [of(against), of(embree)].into_iter().flatten().collect();
+                if ratios.is_empty() {
                     String::new()
-                } else if let Some(e) = embree_row {
-                    format!(
-                        " ({:.2}x; {:.2}x)",
-                        mrays[v][k] / mrays[against][k],
-                        mrays[v][k] / mrays[e][k]
-                    )
                 } else {
-                    format!(" ({:.2}x)", mrays[v][k] / mrays[against][k])
+                    format!(" ({})", ratios.join("; "))
                 }
             };
             speed.push(format!(
