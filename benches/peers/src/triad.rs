@@ -904,7 +904,7 @@ pub fn run(scenes: &[TriadScene], args: &Args) {
     println!("|---|---|---:|---:|---:|");
     speed.iter().for_each(|r| println!("{r}"));
     println!(
-        "\nNode visits and face tests per ray (a node: hitkit's holds 4 children, obvhs's 8):\n"
+        "\nNode visits and face tests per ray (a node: hitkit's holds 8 children, as obvhs's):\n"
     );
     println!(
         "| scene | library | primary nodes | primary tests | bounce nodes | bounce tests | shadow nodes | shadow tests |"
