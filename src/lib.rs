@@ -119,7 +119,7 @@
 //! # Features
 //! | feature | default | what it does |
 //! |---|---|---|
-//! | `std` | yes | float functions from the standard library |
+//! | `std` | yes | float functions from the standard library; the trees' queries compiled for AVX2 too, picked at run time where the CPU has it (without `std`, where the build targets it) |
 //! | `libm` | no | float functions from `libm`, for `no_std` (+ `alloc`) targets |
 //! | `approx` | no | `approx` 0.5's comparison traits for the value types |
 //! | `serde` | no | `Serialize` / `Deserialize` for the value types, and for `Plane`, `Quad`, `Sphere` as what builds them (through their constructors) |

@@ -11,7 +11,8 @@ use multiversion::multiversion;
 /// not what it computes (the trees' tests compare both paths on adversarial rays).
 ///
 /// `query` and what it calls are compiled into each version only where they are inlined
-/// into it: the queries passed here are `#[inline(always)]` down to the face test.
+/// into it: the queries passed here are `#[inline(always)]` down to the node test (a
+/// mesh's face tests stay out of line, in the baseline's instructions).
 #[multiversion(targets("x86_64+avx2+fma"))]
 pub(crate) fn wide<R>(query: impl FnOnce() -> R) -> R {
     query()

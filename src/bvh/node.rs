@@ -9,8 +9,8 @@ use crate::Aabb;
 use crate::math::Dd;
 
 /// A node: the boxes of up to eight children, tested together in SIMD lanes (one AVX2
-/// instruction, or two SSE ones, a step), in four 64-byte cache lines. The boxes are `f32`, relative to the tree's `origin` (rounded
-/// outward, so they still hold everything they must, and as precise at 1e9 from the
+/// instruction a step, or two SSE ones), in four 64-byte cache lines. The boxes are `f32`,
+/// relative to the tree's `origin` (rounded outward, so they still hold everything they must, and as precise at 1e9 from the
 /// world's origin as at it), bound by bound (`bounds[axis]` the lower bounds along
 /// `axis`, `bounds[3 + axis]` the upper), so that a ray picks its near and far bound per
 /// axis once. For each child either a node (`count == 0`, `index` the node) or a leaf

@@ -355,16 +355,16 @@ impl Tree {
                 let t = test.entries(node, limit);
                 // The children entered, as bits (one comparison of all lanes, and a mask),
                 // visited lowest first.
-                let mut lanes =
+                let mut bits =
                     (0..WIDTH).fold(0u32, |m, k| m | (u32::from(t[k] < f32::INFINITY) << k));
                 // Nearest first where asked (an insertion sort of at most eight). (Tried: a
                 // branch-free sorting network on keys that order as the distances do;
                 // slower on primary rays, no faster on bounces.)
                 let mut entered = [(0.0f32, 0u32, 0u32); WIDTH];
                 let mut n = 0;
-                while lanes != 0 {
-                    let k = lanes.trailing_zeros() as usize;
-                    lanes &= lanes - 1;
+                while bits != 0 {
+                    let k = bits.trailing_zeros() as usize;
+                    bits &= bits - 1;
                     let t = t[k];
                     let mut at = n;
                     while NEAREST && at > 0 && entered[at - 1].0 > t {

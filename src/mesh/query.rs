@@ -68,7 +68,7 @@ impl TriangleMesh {
     /// The closest crossing, its position in the tree's order, by the same rule as
     /// [`Bvh::hit_with_index`](crate::Bvh::hit_with_index): of faces hit at exactly the
     /// same `t`, the one the caller numbered first. (Inlined always, here and below, so
-    /// that [`wide`](crate::simd::wide) compiles all of it for AVX2.)
+    /// that [`wide`](crate::simd::wide) compiles the walk for AVX2.)
     #[inline(always)]
     pub(super) fn closest(
         &self,
