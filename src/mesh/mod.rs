@@ -112,10 +112,10 @@ const AREA_BLOCK: usize = 4;
 
 /// How the mesh's tree weighs a node against its faces: a face test costs a little more
 /// than a node visit, and leaves of up to four faces keep the tree small (see
-/// [`TriangleMesh::heap_bytes`]: about 62 bytes a face on the bunny) without the leaves
-/// of eight large faces that a room of walls got at twice the node cost, every ray testing
-/// most of them. (At the node cost of a `Bvh`, 67 bytes a face on the bunny, and no
-/// faster on the triad of `benches/peers`.)
+/// [`TriangleMesh::heap_bytes`]) without the leaves of eight large faces that a room of
+/// walls got at twice the node cost, every ray testing most of them. (Tried: the node cost
+/// of a `Bvh`, no faster and larger; with nodes of eight, a node cost of 2 or 3, smaller
+/// but slower in rooms; `docs/performance.md` has the figures.)
 const MESH_SHAPE: Shape = Shape {
     traversal_cost: 1.5,
     max_leaf: 4,
