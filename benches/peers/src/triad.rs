@@ -110,54 +110,30 @@ impl Builder {
 }
 
 /// The book's Cornell box ("The Next Week", final scene of chapter 9): five walls and two
-/// turned boxes as one mesh, its camera; its lamp a light apart from the mesh.
-fn cornell() -> TriadScene {
+/// turned boxes as one mesh, its camera; its lamp a light apart from the mesh. With
+/// `skylight`, the lamp is moved above a hole in the ceiling (the ceiling four quads around
+/// it), so that most shadow rays from the room are stopped by the ceiling or a wall (the
+/// case of a renderer's rooms, where most lights are out of sight), and the rest pass
+/// through the hole.
+fn cornell(skylight: bool) -> TriadScene {
     let mut b = Builder::default();
     let (x, y, z) = (DVec3::X * 555.0, DVec3::Y * 555.0, DVec3::Z * 555.0);
     b.quad(x, y, z);
     b.quad(DVec3::ZERO, y, z);
     b.quad(DVec3::ZERO, x, z);
-    b.quad(DVec3::splat(555.0), -x, -z);
-    b.quad(z, x, y);
-    b.cuboid(
-        DVec3::new(165.0, 330.0, 165.0),
-        15.0,
-        DVec3::new(265.0, 0.0, 295.0),
-    );
-    b.cuboid(DVec3::splat(165.0), -18.0, DVec3::new(130.0, 0.0, 65.0));
-    TriadScene {
-        scene: b.finish("Cornell box"),
-        camera: Camera {
-            eye: DVec3::new(278.0, 278.0, -800.0),
-            target: DVec3::new(278.0, 278.0, 0.0),
-            fov: 40.0,
-        },
-        lamp: Lamp {
-            corner: DVec3::new(343.0, 554.0, 332.0),
-            u: DVec3::new(-130.0, 0.0, 0.0),
-            v: DVec3::new(0.0, 0.0, -105.0),
-        },
+    if skylight {
+        b.quad(z, x, y);
+        // The ceiling at y = 555 around the hole x in [213, 343], z in [227, 332].
+        let at = |px: f64, pz: f64| DVec3::new(px, 555.0, pz);
+        let (x0, x1, z0, z1) = (213.0, 343.0, 227.0, 332.0);
+        b.quad(at(0.0, 0.0), DVec3::X * x0, DVec3::Z * 555.0);
+        b.quad(at(x1, 0.0), DVec3::X * (555.0 - x1), DVec3::Z * 555.0);
+        b.quad(at(x0, 0.0), DVec3::X * (x1 - x0), DVec3::Z * z0);
+        b.quad(at(x0, z1), DVec3::X * (x1 - x0), DVec3::Z * (555.0 - z1));
+    } else {
+        b.quad(DVec3::splat(555.0), -x, -z);
+        b.quad(z, x, y);
     }
-}
-
-/// The book's Cornell box with its lamp moved above a skylight: the ceiling is four
-/// quads around a hole under the lamp, so that most shadow rays from the room are stopped
-/// by the ceiling or a wall (the case of a renderer's rooms, where most lights are out of
-/// sight), and the rest pass through the hole.
-fn skylight() -> TriadScene {
-    let mut b = Builder::default();
-    let (x, y, z) = (DVec3::X * 555.0, DVec3::Y * 555.0, DVec3::Z * 555.0);
-    b.quad(x, y, z);
-    b.quad(DVec3::ZERO, y, z);
-    b.quad(DVec3::ZERO, x, z);
-    b.quad(z, x, y);
-    // The ceiling at y = 555 around the hole x in [213, 343], z in [227, 332].
-    let at = |px: f64, pz: f64| DVec3::new(px, 555.0, pz);
-    let (x0, x1, z0, z1) = (213.0, 343.0, 227.0, 332.0);
-    b.quad(at(0.0, 0.0), DVec3::X * x0, DVec3::Z * 555.0);
-    b.quad(at(x1, 0.0), DVec3::X * (555.0 - x1), DVec3::Z * 555.0);
-    b.quad(at(x0, 0.0), DVec3::X * (x1 - x0), DVec3::Z * z0);
-    b.quad(at(x0, z1), DVec3::X * (x1 - x0), DVec3::Z * (555.0 - z1));
     b.cuboid(
         DVec3::new(165.0, 330.0, 165.0),
         15.0,
@@ -165,14 +141,18 @@ fn skylight() -> TriadScene {
     );
     b.cuboid(DVec3::splat(165.0), -18.0, DVec3::new(130.0, 0.0, 65.0));
     TriadScene {
-        scene: b.finish("Cornell box, lamp above a skylight"),
+        scene: b.finish(if skylight {
+            "Cornell box, lamp above a skylight"
+        } else {
+            "Cornell box"
+        }),
         camera: Camera {
             eye: DVec3::new(278.0, 278.0, -800.0),
             target: DVec3::new(278.0, 278.0, 0.0),
             fov: 40.0,
         },
         lamp: Lamp {
-            corner: DVec3::new(343.0, 755.0, 332.0),
+            corner: DVec3::new(343.0, if skylight { 755.0 } else { 554.0 }, 332.0),
             u: DVec3::new(-130.0, 0.0, 0.0),
             v: DVec3::new(0.0, 0.0, -105.0),
         },
@@ -290,15 +270,14 @@ fn inside_sphere(levels: u32) -> TriadScene {
 }
 
 /// The triad's scenes: the model (if it loaded), the Cornell box (its lamp inside, and
-/// above a skylight), the crowd of copies of
-/// the model, the closed sphere from inside.
+/// above a skylight), the crowd of copies of the model, the closed sphere from inside.
 pub fn scenes(model_scene: Option<&Scene>, args: &Args) -> Vec<TriadScene> {
     let mut scenes = Vec::new();
     if let Some(m) = model_scene {
         scenes.push(model(m));
     }
-    scenes.push(cornell());
-    scenes.push(skylight());
+    scenes.push(cornell(false));
+    scenes.push(cornell(true));
     if let Some(m) = model_scene.filter(|_| args.crowd > 0) {
         scenes.push(crowd(m, args.crowd));
     }
@@ -719,13 +698,15 @@ pub fn run(scenes: &[TriadScene], args: &Args) {
                 .collect(),
             tree: leaf_tree,
         };
+        #[cfg_attr(not(feature = "embree"), allow(unused_variables))]
+        let mesh_bytes = mesh.heap_bytes();
         #[allow(unused_mut)]
         let mut libs: Vec<Box<dyn Library + '_>> = vec![
             Box::new(Mesh(mesh.clone(), &position)),
             Box::new(own),
             Box::new(Generic(Bvh::new(quads.clone()))),
             Box::new(leaf),
-            Box::new(MeshFind(mesh.clone())),
+            Box::new(MeshFind(mesh)),
         ];
         // The ceiling, where it is built in (row 5).
         #[cfg(feature = "embree")]
@@ -733,10 +714,9 @@ pub fn run(scenes: &[TriadScene], args: &Args) {
             let embree = crate::embree::Embree::new(&scene.vertices, &scene.faces, &position);
             let faces = quads.len() as f64;
             memory.push(format!(
-                "| {name} | {} | {} | {:.1} | {:.1} |",
-                mesh.heap_bytes(),
+                "| {name} | {mesh_bytes} | {} | {:.1} | {:.1} |",
                 embree.bytes,
-                mesh.heap_bytes() as f64 / faces,
+                mesh_bytes as f64 / faces,
                 embree.bytes as f64 / faces,
             ));
             libs.push(Box::new(embree));
