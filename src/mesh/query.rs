@@ -260,14 +260,35 @@ mod tests {
             let (mut inside, mut hits) = (0, 0);
             for (k, &(i, j, kind)) in targets.iter().enumerate() {
                 // A vertex, the middle of an edge (exactly, in the grid's frame), a point
-                // inside a face, or a corner of the whole grid.
-                let (x, y) = match kind {
-                    0 => (f64::from(i), f64::from(j)),
-                    1 => (f64::from(i) + 0.5, f64::from(j)),
-                    2 => (f64::from(i % 12) + 0.25, f64::from(j % 12) + 0.5),
-                    _ => (12.0 * f64::from(i % 2), 12.0 * f64::from(j % 2)),
+                // inside a face (its corners weighted 1/2, 1/4, 1/4), or a corner of the
+                // whole grid: on the bumpy surface, where the grid has one.
+                let height = |x: u32, y: u32| {
+                    if x <= 12 && y <= 12 {
+                        bumps[(y * 13 + x) as usize % bumps.len()]
+                    } else {
+                        0.0
+                    }
                 };
-                let target = turn * DVec3::new(x, y, 0.0) * scale + offset;
+                let (x, y, z) = match kind {
+                    0 => (f64::from(i), f64::from(j), height(i, j)),
+                    1 => (
+                        f64::from(i) + 0.5,
+                        f64::from(j),
+                        0.5 * (height(i, j) + height(i + 1, j)),
+                    ),
+                    2 => {
+                        // In the face of corners (x, y), (x + 1, y + 1), (x, y + 1).
+                        let (x, y) = (i % 12, j % 12);
+                        let z = 0.5 * height(x, y)
+                            + 0.25 * (height(x + 1, y + 1) + height(x, y + 1));
+                        (f64::from(x) + 0.25, f64::from(y) + 0.5, z)
+                    }
+                    _ => {
+                        let (x, y) = (12 * (i % 2), 12 * (j % 2));
+                        (f64::from(x), f64::from(y), height(x, y))
+                    }
+                };
+                let target = turn * DVec3::new(x, y, z) * scale + offset;
                 let from = DVec3::from(froms[k % froms.len()]);
                 let away = if grazing {
                     // Nearly in the grid's plane.
@@ -301,10 +322,11 @@ mod tests {
                     }
                 }
             }
-            // Rays aimed inside a face from off the grid's plane find it (the comparison
-            // above is of hits, not only of misses), where the grid is large enough against
-            // its offset for its faces to be where they were meant to be: 2^30 of its
-            // coordinates' ulps across.
+            // Rays aimed inside a face from off the grid's plane find it or a face before it
+            // (the comparison above is of hits, not only of misses), where the grid is large
+            // enough against its offset for its faces to be where they were meant to be:
+            // 2^30 of its coordinates' ulps across. (Aimed at the plane `z = 0` rather than
+            // at the surface, a ray could pass under a bump at the grid's edge and miss.)
             let resolved = 12.0 * scale >= offset.abs().max_element() * 2f64.powi(-22);
             prop_assert!(grazing || !resolved || hits == inside);
         }
