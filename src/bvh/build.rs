@@ -165,8 +165,12 @@ impl Tree {
             let extent = Extent::of(&prims);
             let mut builder = Builder::new(shape, parallel);
             let root = builder.node(&mut prims, 0, 0, extent);
-            nodes.reserve(builder.pairs.len() / 2 + 1);
+            // A node opens up to `WIDTH - 1` pairs, and those low in the tree fewer (the
+            // bunny's mesh: 10,756 nodes for 32,582 pairs): the collapse grows the vector,
+            // and the slack is given back, a fifth of a mesh's bytes at the old reserve of
+            // one node per two pairs.
             depth = collapse(&builder.pairs, root, &mut nodes);
+            nodes.shrink_to_fit();
         }
         let (rounding, compact) = rounding(&nodes, origin);
         let bounded = prims.len();

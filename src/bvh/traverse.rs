@@ -224,6 +224,22 @@ fn down(x: DVec3) -> Vec3 {
 /// value can still end among them; read as zero, such a value is still on the right side.
 const STEP: f64 = f32::MIN_POSITIVE as f64;
 
+/// Bit `k` set where the ray enters child `k` (`t[k]` finite): a comparison and a mask
+/// per four lanes, through `wide` (SSE's `cmpltps` and `movmskps`; in the AVX2 path, two
+/// comparisons and one mask). (Tried: a loop of `m | (t[k] < inf) << k`, which LLVM
+/// compiles to some thirty scalar instructions: 4% more instructions per closest hit on
+/// the bunny.)
+#[inline(always)]
+fn entered_bits(t: &[f32; WIDTH]) -> u32 {
+    let infinite = wide::f32x4::splat(f32::INFINITY);
+    let mut bits = 0;
+    for (i, lanes) in t.chunks_exact(4).enumerate() {
+        let lanes = wide::f32x4::from([lanes[0], lanes[1], lanes[2], lanes[3]]);
+        bits |= (wide::CmpLt::cmp_lt(lanes, infinite).move_mask() as u32) << (4 * i);
+    }
+    bits
+}
+
 /// What a query counts: the nodes whose children's boxes it tests, and the objects it
 /// tests. `()` counts nothing (and costs nothing); [`Visits`] counts.
 pub(crate) trait Tally {
@@ -354,10 +370,8 @@ impl Tree {
                 let node = &self.nodes[index as usize];
                 tally.node();
                 let t = test.entries(node, limit);
-                // The children entered, as bits (one comparison of all lanes, and a mask),
-                // visited lowest first.
-                let mut bits =
-                    (0..WIDTH).fold(0u32, |m, k| m | (u32::from(t[k] < f32::INFINITY) << k));
+                // The children entered, as bits, visited lowest first.
+                let mut bits = entered_bits(&t);
                 // Nearest first where asked (an insertion sort of at most eight). (Tried: a
                 // branch-free sorting network on keys that order as the distances do;
                 // slower on primary rays, no faster on bounces. For any hit, farthest first,

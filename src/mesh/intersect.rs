@@ -72,7 +72,7 @@ const LARGEST: f64 = 1e150;
 
 impl Sheared {
     /// `None` for a ray that cannot be traced.
-    #[inline]
+    #[inline(always)]
     pub(super) fn new(ray: &Ray) -> Option<Self> {
         if !ray.is_valid() {
             return None;
