@@ -57,7 +57,7 @@ impl Face<'_> {
         let sheared = Sheared::new(ray)?;
         let crossing = self
             .mesh
-            .cross(&sheared, &mut None, ray, ray_t, self.position)?;
+            .cross::<false>(&sheared, &mut None, ray, ray_t, self.position)?;
         let record = self
             .mesh
             .record_at(ray, self.position, crossing.t, crossing.barycentric())?;

@@ -22,8 +22,14 @@ impl TriangleMesh {
     /// face's box along the ray) lies in `ray_t`, and the exact crossing at or beyond
     /// `ray_t.min` whatever its rounding (the contract's clause 5: a ray spawned from a face never
     /// finds it again, which a rounded `t` of zero or just above would break).
+    ///
+    /// With `ANY` (a query that needs only whether a face is crossed, not its `t`), a
+    /// crossing whose `t` lies inside `ray_t` by more than its error is kept without the
+    /// box's clamp, which could only move `t` to within that error of itself (the box holds
+    /// the face, and its slab test pads its far distances by more than the near ones
+    /// round): the same answer, without a face box and, for a flat one, a slab test.
     #[inline(always)]
-    pub(super) fn cross(
+    pub(super) fn cross<const ANY: bool>(
         &self,
         sheared: &Sheared,
         box_ray: &mut Option<BoxRay>,
@@ -38,6 +44,16 @@ impl TriangleMesh {
         // here, before its box is computed.)
         if !beyond {
             return None;
+        }
+        if ANY && !self.near_overflow {
+            // The clamped `t` is within `t_error` of the exact crossing's, and the box's
+            // near distances (where the clamp can put it) within a few ulps of it past that.
+            let slack = crossing.t_error
+                + (crossing.t_error + crossing.t.abs()) * (4.0 * f64::EPSILON)
+                + f64::MIN_POSITIVE;
+            if crossing.t - slack > ray_t.min && crossing.t + slack < ray_t.max {
+                return Some(crossing);
+            }
         }
         crossing.t = face_box(p).clamp_hit_on(ray, box_ray, crossing.t)?;
         if !ray_t.contains(crossing.t) {
@@ -93,7 +109,7 @@ impl TriangleMesh {
             |first, count, t_max| {
                 tests += count as u32;
                 for position in first..first + count {
-                    if let Some(c) = self.cross(
+                    if let Some(c) = self.cross::<false>(
                         &sheared,
                         &mut box_ray,
                         ray,
@@ -132,7 +148,8 @@ impl TriangleMesh {
             |first, count, _| {
                 found = (first..first + count).any(|p| {
                     tests += 1;
-                    self.cross(&sheared, &mut box_ray, ray, ray_t, p).is_some()
+                    self.cross::<true>(&sheared, &mut box_ray, ray, ray_t, p)
+                        .is_some()
                 });
                 found
             },
@@ -245,7 +262,8 @@ mod tests {
         #[test]
         fn wide_queries_answer_as_portable_ones(
             bumps in prop::collection::vec(-0.5f64..0.5, 1..8),
-            angles in prop::array::uniform3(-3.2f64..3.2),
+            flat in any::<bool>(),
+            angles in prop_oneof![Just([0.0; 3]), prop::array::uniform3(-3.2f64..3.2)],
             scale in prop_oneof![Just(1.0), Just(1e-6), Just(1e6), 1e-3f64..1e3],
             offset in prop_oneof![Just(0.0), Just(1e6), Just(1e9), Just(-1e12), -10.0f64..10.0],
             targets in prop::collection::vec((0u32..=12, 0u32..=12, 0usize..4), 1..24),
@@ -256,6 +274,9 @@ mod tests {
         ) {
             let turn = DMat3::from_euler(glam::EulerRot::XYZ, angles[0], angles[1], angles[2]);
             let offset = DVec3::new(offset, -0.7 * offset, 0.3 * offset);
+            // Flat and unturned: every face's box is flat, which the box clamp of a hit
+            // always has to settle by its slab test.
+            let bumps = if flat { vec![0.0] } else { bumps };
             let mesh = grid(12, &bumps, turn, scale, offset);
             let (mut inside, mut hits) = (0, 0);
             for (k, &(i, j, kind)) in targets.iter().enumerate() {
@@ -319,6 +340,22 @@ mod tests {
                             mesh.any(ray, ray_t, &mut ()),
                             wide(#[inline(always)] || mesh.any(ray, ray_t, &mut ()))
                         );
+                    }
+                    // Any hit answers as the closest hit with the range ending, or
+                    // starting, a few ulps either side of the closest crossing, where the
+                    // any-hit query's shortcut past the box clamp stops applying.
+                    if let Some((_, c)) = mesh.closest(ray, Interval::FORWARD, &mut ()) {
+                        for ulps in -3i64..=3 {
+                            let end = f64::from_bits((c.t.to_bits() as i64 + ulps) as u64);
+                            for ray_t in [Interval::new(0.0, end), Interval::new(end, f64::INFINITY)] {
+                                let closest = mesh.closest(ray, ray_t, &mut ()).is_some();
+                                prop_assert_eq!(mesh.any(ray, ray_t, &mut ()), closest);
+                                prop_assert_eq!(
+                                    wide(#[inline(always)] || mesh.any(ray, ray_t, &mut ())),
+                                    closest
+                                );
+                            }
+                        }
                     }
                 }
             }

@@ -50,9 +50,13 @@ impl PdfHittable for TriangleMesh {
             &mut (),
             |first, count, _| {
                 for position in first..first + count {
-                    if let Some(c) =
-                        self.cross(&sheared, &mut box_ray, &ray, Interval::FORWARD, position)
-                    {
+                    if let Some(c) = self.cross::<false>(
+                        &sheared,
+                        &mut box_ray,
+                        &ray,
+                        Interval::FORWARD,
+                        position,
+                    ) {
                         let [p0, p1, p2] = self.corners_at(position);
                         let (normal, _) = unit_and_length((p1 - p0).cross(p2 - p0));
                         let distance = c.t * length;
@@ -123,7 +127,7 @@ impl PdfHittable for TriangleMesh {
         reaching(sample, |d| {
             let ray = Ray::new(origin, d);
             Sheared::new(&ray).is_some_and(|sheared| {
-                self.cross(&sheared, &mut None, &ray, Interval::FORWARD, position)
+                self.cross::<false>(&sheared, &mut None, &ray, Interval::FORWARD, position)
                     .is_some()
             })
         })
