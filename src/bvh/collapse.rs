@@ -62,6 +62,40 @@ pub(super) fn collapse(pairs: &[Pair], root: Child, nodes: &mut Vec<Node>) -> us
         index: [0; WIDTH],
         count: [0; WIDTH],
     });
+    let (lanes, used) = lanes_of(pairs, root);
+    let mut below = 0;
+    for (k, &child) in lanes[..used].iter().enumerate() {
+        let mut lane = child;
+        if lane.count == 0 {
+            lane.index = nodes.len() as u32;
+            below = below.max(collapse(pairs, child, nodes));
+        }
+        let node = &mut nodes[slot];
+        for axis in 0..3 {
+            node.bounds[axis][k] = lane.bounds.min[axis];
+            node.bounds[3 + axis][k] = lane.bounds.max[axis];
+        }
+        node.index[k] = lane.index;
+        node.count[k] = lane.count;
+    }
+    below + 1
+}
+
+/// The nodes [`collapse`] makes of the binary tree under `root`: what to reserve, so
+/// that the vector of nodes neither grows by doubling nor keeps slack.
+pub(super) fn node_count(pairs: &[Pair], root: Child) -> usize {
+    let (lanes, used) = lanes_of(pairs, root);
+    1 + lanes[..used]
+        .iter()
+        .filter(|lane| lane.count == 0)
+        .map(|&lane| node_count(pairs, lane))
+        .sum::<usize>()
+}
+
+/// The lanes of the node [`collapse`] makes of `root`, and how many are used: its two
+/// children, then, while a lane is free, the inner child of largest surface area opened
+/// in place of it.
+fn lanes_of(pairs: &[Pair], root: Child) -> ([Child; WIDTH], usize) {
     let mut lanes = [root; WIDTH];
     let mut used = 1;
     if root.count == 0 {
@@ -84,22 +118,7 @@ pub(super) fn collapse(pairs: &[Pair], root: Child, nodes: &mut Vec<Node>) -> us
             used += 1;
         }
     }
-    let mut below = 0;
-    for (k, &child) in lanes[..used].iter().enumerate() {
-        let mut lane = child;
-        if lane.count == 0 {
-            lane.index = nodes.len() as u32;
-            below = below.max(collapse(pairs, child, nodes));
-        }
-        let node = &mut nodes[slot];
-        for axis in 0..3 {
-            node.bounds[axis][k] = lane.bounds.min[axis];
-            node.bounds[3 + axis][k] = lane.bounds.max[axis];
-        }
-        node.index[k] = lane.index;
-        node.count[k] = lane.count;
-    }
-    below + 1
+    (lanes, used)
 }
 
 pub(super) fn pair(a: Child, b: Child) -> Pair {

@@ -410,6 +410,41 @@ mod tests {
     use glam::DVec3;
     use proptest::prelude::*;
 
+    /// The build reserves exactly the nodes its collapse makes (`collapse::node_count`):
+    /// no slack is kept, and the vector never grows by doubling, for trees of every shape
+    /// the build makes, from one object to leaves of coinciding boxes.
+    #[test]
+    fn the_build_keeps_no_spare_nodes() {
+        use super::Tree;
+        use super::build::Shape;
+        use crate::Aabb;
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let mut next = move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        for n in [1, 2, 3, 7, 8, 9, 64, 1000, 20_000] {
+            let boxes: Vec<Aabb> = (0..n)
+                .map(|i| {
+                    // Random boxes, and every eleventh at the same place (where the build
+                    // splits by count).
+                    let c = if i % 11 == 0 {
+                        DVec3::splat(0.5)
+                    } else {
+                        DVec3::new(next(), next(), next()) * 100.0
+                    };
+                    Aabb::new(c, c + DVec3::splat(next()))
+                })
+                .collect();
+            for shape in [Shape::OBJECTS, crate::mesh::MESH_SHAPE] {
+                let (tree, _) = Tree::build(n, |i| boxes[i], shape, false);
+                assert_eq!(tree.nodes.capacity(), tree.nodes.len(), "{n} boxes");
+            }
+        }
+    }
+
     proptest! {
         #![proptest_config(ProptestConfig::with_cases(100))]
 

@@ -116,7 +116,7 @@ const AREA_BLOCK: usize = 4;
 /// walls got at twice the node cost, every ray testing most of them. (Tried: the node cost
 /// of a `Bvh`, no faster and larger; with nodes of eight, a node cost of 2 or 3, smaller
 /// but slower in rooms; `docs/performance.md` has the figures.)
-const MESH_SHAPE: Shape = Shape {
+pub(crate) const MESH_SHAPE: Shape = Shape {
     traversal_cost: 1.5,
     max_leaf: 4,
 };
