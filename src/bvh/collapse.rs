@@ -99,22 +99,31 @@ fn lanes_of(pairs: &[Pair], root: Child) -> ([Child; WIDTH], usize) {
     let mut lanes = [root; WIDTH];
     let mut used = 1;
     if root.count == 0 {
+        // Each lane's surface area, computed once (`-1` for a leaf, which is not opened).
+        let area = |c: &Child| {
+            if c.count == 0 {
+                c.bounds.half_area()
+            } else {
+                -1.0
+            }
+        };
+        let mut areas = [-1.0; WIDTH];
         let pair = &pairs[root.index as usize];
         (lanes[0], lanes[1], used) = (pair.child(0), pair.child(1), 2);
+        (areas[0], areas[1]) = (area(&lanes[0]), area(&lanes[1]));
         while used < WIDTH {
-            let widest = (0..used).filter(|&k| lanes[k].count == 0).max_by(|&a, &b| {
-                lanes[a]
-                    .bounds
-                    .half_area()
-                    .total_cmp(&lanes[b].bounds.half_area())
-            });
+            let widest = (0..used)
+                .filter(|&k| lanes[k].count == 0)
+                .max_by(|&a, &b| areas[a].total_cmp(&areas[b]));
             let Some(k) = widest else { break };
             // Its two children take its place, in order, so that the lanes stay in the
             // binary tree's left-to-right order (and their leaves in the objects' order:
             // what a refit relies on to visit the objects in order).
             let pair = &pairs[lanes[k].index as usize];
             lanes.copy_within(k + 1..used, k + 2);
+            areas.copy_within(k + 1..used, k + 2);
             (lanes[k], lanes[k + 1]) = (pair.child(0), pair.child(1));
+            (areas[k], areas[k + 1]) = (area(&lanes[k]), area(&lanes[k + 1]));
             used += 1;
         }
     }
