@@ -47,8 +47,15 @@ pub(super) struct Child {
 /// lane, opens the inner child of largest surface area (the one a ray most often enters)
 /// in place of it. Lanes keep the binary tree's left-to-right order, so that a walk of the
 /// nodes, lane by lane, depth first, meets the leaves in the objects' order. A root that
-/// is a leaf becomes a node of one child. Returns the levels of nodes.
-pub(super) fn collapse(pairs: &[Pair], root: Child, nodes: &mut Vec<Node>) -> usize {
+/// is a leaf becomes a node of one child. The lanes are `plans[*next]` on, as [`plan`] chose
+/// them (parents first, in the same order). Returns the levels of nodes.
+pub(super) fn collapse(
+    pairs: &[Pair],
+    root: Child,
+    plans: &[Plan],
+    next: &mut usize,
+    nodes: &mut Vec<Node>,
+) -> usize {
     let slot = nodes.len();
     nodes.push(Node {
         bounds: [
@@ -62,13 +69,19 @@ pub(super) fn collapse(pairs: &[Pair], root: Child, nodes: &mut Vec<Node>) -> us
         index: [0; WIDTH],
         count: [0; WIDTH],
     });
-    let (lanes, used) = lanes_of(pairs, root);
+    let (lanes, used) = plans[*next];
+    *next += 1;
     let mut below = 0;
-    for (k, &child) in lanes[..used].iter().enumerate() {
+    for (k, &(pair, side)) in lanes[..used].iter().enumerate() {
+        let child = if root.count == 0 {
+            pairs[pair as usize].child(side as usize)
+        } else {
+            root
+        };
         let mut lane = child;
         if lane.count == 0 {
             lane.index = nodes.len() as u32;
-            below = below.max(collapse(pairs, child, nodes));
+            below = below.max(collapse(pairs, child, plans, next, nodes));
         }
         let node = &mut nodes[slot];
         for axis in 0..3 {
@@ -81,51 +94,70 @@ pub(super) fn collapse(pairs: &[Pair], root: Child, nodes: &mut Vec<Node>) -> us
     below + 1
 }
 
-/// The nodes [`collapse`] makes of the binary tree under `root`: what to reserve, so
-/// that the vector of nodes neither grows by doubling nor keeps slack.
-pub(super) fn node_count(pairs: &[Pair], root: Child) -> usize {
+/// A node's lanes, as (pair, side) in the pairs, and how many are used.
+pub(super) type Plan = ([(u32, u32); WIDTH], usize);
+
+/// The lanes of every node [`collapse`] makes of the binary tree under `root`, parents
+/// first: chosen before any node is written, so that the vector of nodes is allocated once,
+/// to the node, with neither doubling nor slack.
+pub(super) fn plan(pairs: &[Pair], root: Child, plans: &mut Vec<Plan>) {
     let (lanes, used) = lanes_of(pairs, root);
-    1 + lanes[..used]
-        .iter()
-        .filter(|lane| lane.count == 0)
-        .map(|&lane| node_count(pairs, lane))
-        .sum::<usize>()
+    plans.push((lanes, used));
+    if root.count == 0 {
+        for &(pair, side) in &lanes[..used] {
+            let pair = &pairs[pair as usize];
+            if pair.count[side as usize] == 0 {
+                plan(pairs, pair.child(side as usize), plans);
+            }
+        }
+    }
 }
 
-/// The lanes of the node [`collapse`] makes of `root`, and how many are used: its two
-/// children, then, while a lane is free, the inner child of largest surface area opened
-/// in place of it.
-fn lanes_of(pairs: &[Pair], root: Child) -> ([Child; WIDTH], usize) {
-    let mut lanes = [root; WIDTH];
-    let mut used = 1;
-    if root.count == 0 {
-        // Each lane's surface area, computed once (`-1` for a leaf, which is not opened).
-        let area = |c: &Child| {
-            if c.count == 0 {
-                c.bounds.half_area()
-            } else {
-                -1.0
-            }
-        };
-        let mut areas = [-1.0; WIDTH];
-        let pair = &pairs[root.index as usize];
-        (lanes[0], lanes[1], used) = (pair.child(0), pair.child(1), 2);
-        (areas[0], areas[1]) = (area(&lanes[0]), area(&lanes[1]));
-        while used < WIDTH {
-            let widest = (0..used)
-                .filter(|&k| lanes[k].count == 0)
-                .max_by(|&a, &b| areas[a].total_cmp(&areas[b]));
-            let Some(k) = widest else { break };
-            // Its two children take its place, in order, so that the lanes stay in the
-            // binary tree's left-to-right order (and their leaves in the objects' order:
-            // what a refit relies on to visit the objects in order).
-            let pair = &pairs[lanes[k].index as usize];
-            lanes.copy_within(k + 1..used, k + 2);
-            areas.copy_within(k + 1..used, k + 2);
-            (lanes[k], lanes[k + 1]) = (pair.child(0), pair.child(1));
-            (areas[k], areas[k + 1]) = (area(&lanes[k]), area(&lanes[k + 1]));
-            used += 1;
+/// The lanes of the node [`collapse`] makes of an inner `root`, as (pair, side) in
+/// `pairs`, and how many are used: its two children, then, while a lane is free, the inner
+/// child of largest surface area opened in place of it. (For a leaf `root`, one unused
+/// lane: the node holds the root itself.)
+fn lanes_of(pairs: &[Pair], root: Child) -> Plan {
+    let mut lanes = [(root.index, 0); WIDTH];
+    if root.count != 0 {
+        return (lanes, 1);
+    }
+    // Each lane's surface area, computed once (`-1` for a leaf, which is not opened).
+    let area = |(pair, side): (u32, u32)| {
+        let (pair, side) = (&pairs[pair as usize], side as usize);
+        if pair.count[side] == 0 {
+            let d = [0, 1, 2].map(|a| f64::from((pair.max[a][side] - pair.min[a][side]).max(0.0)));
+            d[0] * d[1] + d[1] * d[2] + d[2] * d[0]
+        } else {
+            -1.0
         }
+    };
+    let mut areas = [-1.0; WIDTH];
+    lanes[1] = (root.index, 1);
+    (areas[0], areas[1]) = (area(lanes[0]), area(lanes[1]));
+    let mut used = 2;
+    while used < WIDTH {
+        let mut widest = None;
+        for k in 0..used {
+            // The last of equal areas, as `Iterator::max_by` picks it.
+            if areas[k] >= 0.0 && widest.is_none_or(|w: usize| areas[k] >= areas[w]) {
+                widest = Some(k);
+            }
+        }
+        let Some(k) = widest else { break };
+        // Its two children take its place, in order, so that the lanes stay in the
+        // binary tree's left-to-right order (and their leaves in the objects' order:
+        // what a refit relies on to visit the objects in order).
+        let (pair, side) = lanes[k];
+        let inner = pairs[pair as usize].index[side as usize];
+        // (A loop of at most six moves: `copy_within` calls `memmove`.)
+        for j in (k + 1..used).rev() {
+            lanes[j + 1] = lanes[j];
+            areas[j + 1] = areas[j];
+        }
+        (lanes[k], lanes[k + 1]) = ((inner, 0), (inner, 1));
+        (areas[k], areas[k + 1]) = (area(lanes[k]), area(lanes[k + 1]));
+        used += 1;
     }
     (lanes, used)
 }

@@ -410,7 +410,7 @@ mod tests {
     use glam::DVec3;
     use proptest::prelude::*;
 
-    /// The build reserves exactly the nodes its collapse makes (`collapse::node_count`):
+    /// The build reserves exactly the nodes its collapse makes (`collapse::plan`):
     /// no slack is kept, and the vector never grows by doubling, for trees of every shape
     /// the build makes, from one object to leaves of coinciding boxes.
     #[test]
