@@ -115,8 +115,8 @@ pub(super) fn plan(pairs: &[Pair], root: Child, plans: &mut Vec<Plan>) {
 
 /// The lanes of the node [`collapse`] makes of an inner `root`, as (pair, side) in
 /// `pairs`, and how many are used: its two children, then, while a lane is free, the inner
-/// child of largest surface area opened in place of it. (For a leaf `root`, one unused
-/// lane: the node holds the root itself.)
+/// child of largest surface area opened in place of it. (For a leaf `root`, one lane,
+/// which [`collapse`] fills with the root itself.)
 fn lanes_of(pairs: &[Pair], root: Child) -> Plan {
     let mut lanes = [(root.index, 0); WIDTH];
     if root.count != 0 {
@@ -124,10 +124,9 @@ fn lanes_of(pairs: &[Pair], root: Child) -> Plan {
     }
     // Each lane's surface area, computed once (`-1` for a leaf, which is not opened).
     let area = |(pair, side): (u32, u32)| {
-        let (pair, side) = (&pairs[pair as usize], side as usize);
-        if pair.count[side] == 0 {
-            let d = [0, 1, 2].map(|a| f64::from((pair.max[a][side] - pair.min[a][side]).max(0.0)));
-            d[0] * d[1] + d[1] * d[2] + d[2] * d[0]
+        let child = pairs[pair as usize].child(side as usize);
+        if child.count == 0 {
+            child.bounds.half_area()
         } else {
             -1.0
         }
