@@ -27,7 +27,7 @@ impl TriangleMesh {
     /// crossing whose `t` lies inside `ray_t` by more than its error is kept without the
     /// box's clamp, which could only move `t` to within that error of itself (the box holds
     /// the face, and its slab test pads its far distances by more than the near ones
-    /// round): the same answer, without a face box and, for a flat one, a slab test.
+    /// round): the same answer, without the face's box and the clamp's comparisons.
     #[inline(always)]
     pub(super) fn cross<const ANY: bool>(
         &self,
@@ -274,8 +274,8 @@ mod tests {
         ) {
             let turn = DMat3::from_euler(glam::EulerRot::XYZ, angles[0], angles[1], angles[2]);
             let offset = DVec3::new(offset, -0.7 * offset, 0.3 * offset);
-            // Flat and unturned: every face's box is flat, which the box clamp of a hit
-            // always has to settle by its slab test.
+            // Flat and unturned: every face's box is as thin as its padding, the clamp's
+            // closest call.
             let bumps = if flat { vec![0.0] } else { bumps };
             let mesh = grid(12, &bumps, turn, scale, offset);
             let (mut inside, mut hits) = (0, 0);
