@@ -14,6 +14,6 @@ use multiversion::multiversion;
 /// into it: the queries passed here are `#[inline(always)]` down to the node test (a
 /// mesh's face tests stay out of line, in the baseline's instructions).
 #[multiversion(targets("x86_64+avx2+fma"))]
-pub(crate) fn wide<R>(query: impl FnOnce() -> R) -> R {
+pub(crate) fn dispatch<R>(query: impl FnOnce() -> R) -> R {
     query()
 }

@@ -24,7 +24,7 @@ use node::Node;
 
 use glam::DVec3;
 
-use crate::simd::wide;
+use crate::simd::dispatch;
 use crate::{Aabb, Found, HitRecord, Hittable, Interval, Ray};
 
 /// Deepest a tree gets; the traversal stack has this many entries. The build switches to
@@ -235,7 +235,7 @@ impl<T: Hittable> Bvh<T> {
     /// slice.
     #[must_use]
     pub fn hit_with_index(&self, ray: &Ray, ray_t: Interval) -> Option<(usize, HitRecord)> {
-        let (index, position, found) = wide(
+        let (index, position, found) = dispatch(
             #[inline(always)]
             || self.closest(ray, ray_t, &mut ()),
         )?;
@@ -282,7 +282,7 @@ impl<T: Hittable> Bvh<T> {
 
     /// The closest crossing by the objects' `find`: the object's number, its position in
     /// `self.objects`, and the crossing. (Inlined always, as `any`, so that
-    /// [`wide`](crate::simd::wide) compiles all of it for AVX2.)
+    /// [`dispatch`](crate::simd::dispatch) compiles all of it for AVX2.)
     #[inline(always)]
     fn closest(
         &self,
@@ -395,7 +395,7 @@ impl<T: Hittable> Hittable for Bvh<T> {
 
     /// Stops at the first object found that occludes, in any order.
     fn occluded(&self, ray: &Ray, ray_t: Interval) -> bool {
-        wide(
+        dispatch(
             #[inline(always)]
             || self.any(ray, ray_t, &mut ()),
         )
@@ -405,7 +405,7 @@ impl<T: Hittable> Hittable for Bvh<T> {
 #[cfg(test)]
 mod tests {
     use super::Bvh;
-    use crate::simd::wide;
+    use crate::simd::dispatch;
     use crate::{Interval, Quad, Ray, Triangle};
     use glam::DVec3;
     use proptest::prelude::*;
@@ -485,11 +485,11 @@ mod tests {
                     };
                     prop_assert_eq!(
                         key(bvh.closest(&ray, ray_t, &mut ())),
-                        key(wide(#[inline(always)] || bvh.closest(&ray, ray_t, &mut ())))
+                        key(dispatch(#[inline(always)] || bvh.closest(&ray, ray_t, &mut ())))
                     );
                     prop_assert_eq!(
                         bvh.any(&ray, ray_t, &mut ()),
-                        wide(#[inline(always)] || bvh.any(&ray, ray_t, &mut ()))
+                        dispatch(#[inline(always)] || bvh.any(&ray, ray_t, &mut ()))
                     );
                 }
             }

@@ -225,7 +225,7 @@ fn down(x: DVec3) -> Vec3 {
 const STEP: f64 = f32::MIN_POSITIVE as f64;
 
 /// Bit `k` set where the ray enters child `k` (`t[k]` finite): a comparison and a mask
-/// per four lanes, through `wide` (SSE's `cmpltps` and `movmskps`; in the AVX2 path, two
+/// per four lanes, through the `wide` crate (SSE's `cmpltps` and `movmskps`; in the AVX2 path, two
 /// comparisons and one mask). (Tried: a loop of `m | (t[k] < inf) << k`, which LLVM
 /// compiles to some thirty scalar instructions: 4% more instructions per closest hit on
 /// the bunny.)

@@ -19,7 +19,7 @@ use alloc::vec::Vec;
 use glam::{DVec2, DVec3};
 
 use crate::bvh::{Shape, Tree};
-use crate::simd::wide;
+use crate::simd::dispatch;
 use crate::{Aabb, Found, GeometryError, HitRecord, Hittable, Interval, MaterialId, Ray};
 
 /// An indexed triangle mesh: vertex positions shared by faces that name them by index,
@@ -227,7 +227,7 @@ impl TriangleMesh {
 
 impl Hittable for TriangleMesh {
     fn hit(&self, ray: &Ray, ray_t: Interval) -> Option<HitRecord> {
-        let (position, crossing) = wide(
+        let (position, crossing) = dispatch(
             #[inline(always)]
             || self.closest(ray, ray_t, &mut ()),
         )?;
@@ -236,7 +236,7 @@ impl Hittable for TriangleMesh {
 
     /// The face's barycentrics in `coords`, its position in the tree's order in `part`.
     fn find(&self, ray: &Ray, ray_t: Interval) -> Option<Found> {
-        let (position, crossing) = wide(
+        let (position, crossing) = dispatch(
             #[inline(always)]
             || self.closest(ray, ray_t, &mut ()),
         )?;
@@ -262,7 +262,7 @@ impl Hittable for TriangleMesh {
 
     /// Stops at the first face found that the ray crosses within `ray_t`.
     fn occluded(&self, ray: &Ray, ray_t: Interval) -> bool {
-        wide(
+        dispatch(
             #[inline(always)]
             || self.any(ray, ray_t, &mut ()),
         )

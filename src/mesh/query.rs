@@ -84,7 +84,7 @@ impl TriangleMesh {
     /// The closest crossing, its position in the tree's order, by the same rule as
     /// [`Bvh::hit_with_index`](crate::Bvh::hit_with_index): of faces hit at exactly the
     /// same `t`, the one the caller numbered first. (Inlined always, here and below, so
-    /// that [`wide`](crate::simd::wide) compiles the walk for AVX2.)
+    /// that [`dispatch`](crate::simd::dispatch) compiles the walk for AVX2.)
     #[inline(always)]
     pub(super) fn closest(
         &self,
@@ -225,7 +225,7 @@ impl TriangleMesh {
 
 #[cfg(test)]
 mod tests {
-    use crate::simd::wide;
+    use crate::simd::dispatch;
     use crate::{Hittable, Interval, Ray, TriangleMesh};
     use glam::{DMat3, DVec3};
     use proptest::prelude::*;
@@ -331,14 +331,14 @@ mod tests {
                 for ray in &rays {
                     for ray_t in [Interval::FORWARD, Interval::new(0.0, 1.0), Interval::UNIVERSE] {
                         let portable = mesh.closest(ray, ray_t, &mut ());
-                        let fast = wide(#[inline(always)] || mesh.closest(ray, ray_t, &mut ()));
+                        let fast = dispatch(#[inline(always)] || mesh.closest(ray, ray_t, &mut ()));
                         let key = |c: Option<(usize, super::Crossing)>| {
                             c.map(|(p, c)| (p, c.t.to_bits(), c.barycentric().to_array().map(f64::to_bits)))
                         };
                         prop_assert_eq!(key(portable), key(fast));
                         prop_assert_eq!(
                             mesh.any(ray, ray_t, &mut ()),
-                            wide(#[inline(always)] || mesh.any(ray, ray_t, &mut ()))
+                            dispatch(#[inline(always)] || mesh.any(ray, ray_t, &mut ()))
                         );
                     }
                     // Any hit answers as the closest hit with the range ending, or
@@ -351,7 +351,7 @@ mod tests {
                                 let closest = mesh.closest(ray, ray_t, &mut ()).is_some();
                                 prop_assert_eq!(mesh.any(ray, ray_t, &mut ()), closest);
                                 prop_assert_eq!(
-                                    wide(#[inline(always)] || mesh.any(ray, ray_t, &mut ())),
+                                    dispatch(#[inline(always)] || mesh.any(ray, ray_t, &mut ())),
                                     closest
                                 );
                             }
