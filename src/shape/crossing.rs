@@ -19,6 +19,8 @@ pub(super) struct Quick {
     height: f64,
     rate: f64,
     fixed: f64,
+    /// `gamma(3) + e`: the slack is `c - slope d1`.
+    slope: f64,
 }
 
 impl Quick {
@@ -39,6 +41,7 @@ impl Quick {
             height,
             rate: grow * (height + gamma(6)),
             fixed: grow * (frame_reach + 2.0 * tolerance),
+            slope: gamma(3) + frame_error,
         }
     }
 }
@@ -239,15 +242,19 @@ impl Plane {
         if !(t.abs() < f64::INFINITY && ordinary && t >= ray_t.min) {
             return (!ordinary).then_some(Crossing::Rescale);
         }
+        let c = denom.abs();
+        let (m, slack) = self.quick_terms(q_minus_o, t, c, d1);
+        if self.clearly_past(t, ray_t.max, m, slack) {
+            return None;
+        }
         // The same point as `intersect`'s `(o - q) + t d`: negating a difference is exact.
         let p = t * ray.direction - q_minus_o;
         let (alpha, beta) = (p.dot(self.to_alpha), p.dot(self.to_beta));
         let hit = PlaneHit { t, alpha, beta };
         // Most crossings a render tests are clearly outside the shape or inside it: decided
         // by bounds that need no more than `m` (see `Quick`), as the exact decision would.
-        let c = denom.abs();
         if let Some((window, filled)) = window {
-            match self.clearly_quick(q_minus_o, &hit, c, d1, ray_t.min, window) {
+            match self.clearly_quick(&hit, m, slack, d1, ray_t.min, window) {
                 Some(Clearly::Outside) => return None,
                 Some(Clearly::Inside) if filled => return Some(Crossing::Inside(hit)),
                 _ => {}
@@ -351,24 +358,41 @@ impl Plane {
         inside.then_some(Clearly::Inside)
     }
 
+    /// `m = |q - o|_1 + |t| |d|_1`, which [`Quick`] bounds the error terms by, and the
+    /// slack `c - (gamma(3) + e) |d|_1` (the height gained per unit of `t`, less its error).
+    #[inline(always)]
+    fn quick_terms(&self, q_minus_o: DVec3, t: f64, c: f64, d1: f64) -> (f64, f64) {
+        (l1(q_minus_o) + t.abs() * d1, c - self.quick.slope * d1)
+    }
+
+    /// Whether a crossing at `t` is past `max` whatever is decided for it: the reported `t`
+    /// is at least `t - 3 reach` (see [`Quad`](crate::Quad)'s pending decision), and the
+    /// reach is at most `(height m + tolerance) / slack` ([`Quick`]; the tolerance's term
+    /// along the ray is at most `tolerance / slack`). Four for three covers this test's
+    /// own rounding. Decides nothing where the slack is not positive (the reach is
+    /// unbounded) or `max` is infinite. So a crossing behind the closest hit so far costs
+    /// no coordinates.
+    #[inline(always)]
+    fn clearly_past(&self, t: f64, max: f64, m: f64, slack: f64) -> bool {
+        slack > 0.0 && (t - max) * slack > 4.0 * (self.quick.height * m + self.tolerance)
+    }
+
     /// [`Plane::clearly`] with its terms bounded by multiples of `m = |q - o|_1 + |t| |d|_1`
-    /// ([`Quick`]), from `q - o`, `c = |n.d|` and `d1 = |d|_1` as computed: looser, so it
-    /// decides fewer crossings, but each one as `clearly` would (every term is at least
-    /// `clearly`'s, whose factor of 2 covers the rounding here too), at about half the
-    /// cost. Inside also asks, as `beyond` does, that the crossing lie past `min` by more
-    /// than twice the rounding of `t` (`height m / slack`).
+    /// ([`Quick`]), from `m`, the slack and `d1 = |d|_1` ([`Plane::quick_terms`]): looser,
+    /// so it decides fewer crossings, but each one as `clearly` would (every term is at
+    /// least `clearly`'s, whose factor of 2 covers the rounding here too), at about half
+    /// the cost. Inside also asks, as `beyond` does, that the crossing lie past `min` by
+    /// more than twice the rounding of `t` (`height m / slack`).
     #[inline(always)]
     fn clearly_quick(
         &self,
-        q_minus_o: DVec3,
         hit: &PlaneHit,
-        c: f64,
+        m: f64,
+        slack: f64,
         d1: f64,
         min: f64,
         [lo, hi]: [DVec2; 2],
     ) -> Option<Clearly> {
-        let m = l1(q_minus_o) + hit.t.abs() * d1;
-        let slack = c - (gamma(3) + self.frame_error) * d1;
         // (A NaN coordinate fails every test below; an infinite one is outside, where
         // `crossing` would reject it too.)
         if slack.is_nan() || slack <= 0.0 {
@@ -683,7 +707,7 @@ mod tests {
     fn clear_decisions_agree_with_the_region() {
         let mut s = Stream(0x0c1e_a4de_c1de_5eed);
         let windows = [[DVec2::ZERO, DVec2::ONE], [-DVec2::ONE, DVec2::ONE]];
-        let (mut quick_decided, mut tight_decided, mut close) = (0, 0, 0);
+        let (mut quick_decided, mut tight_decided, mut close, mut past) = (0, 0, 0, 0);
         for _ in 0..60_000 {
             let size = s.power(-3, 3);
             let offset = [0.0, 1e3, 1e6, 1e9, -3.7e10][(s.uniform() * 5.0) as usize];
@@ -712,8 +736,9 @@ mod tests {
             let p = hit.t * ray.direction - q_minus_o;
             let (c, d1) = (plane.normal.dot(ray.direction).abs(), l1(ray.direction));
             let parts = plane.parts(hit.t, q_minus_o, p, c, d1);
+            let (m, slack) = plane.quick_terms(q_minus_o, hit.t, c, d1);
             for window in windows {
-                let quick = plane.clearly_quick(q_minus_o, &hit, c, d1, f64::NEG_INFINITY, window);
+                let quick = plane.clearly_quick(&hit, m, slack, d1, f64::NEG_INFINITY, window);
                 let tight = plane.clearly(&parts, &hit, window);
                 let (within, beside) = region_against(&plane, &ray, &hit, window);
                 let name = |d: &Option<Clearly>| match d {
@@ -747,15 +772,25 @@ mod tests {
             // Inside past `min` only where `beyond` finds it past whatever the rounding.
             for min in [0.0, hit.t * 0.5, hit.t * (1.0 - 1e-12)] {
                 if let Some(Clearly::Inside) =
-                    plane.clearly_quick(q_minus_o, &hit, c, d1, min, windows[0])
+                    plane.clearly_quick(&hit, m, slack, d1, min, windows[0])
                 {
                     assert!(beyond(&parts, hit.t, min), "beyond {min}: {ray:?} {hit:?}");
                 }
             }
+            // Past `max` only where the pending decision finds it past too (`t - 3 reach`,
+            // the least `t` it can report), for a `max` on either side of that bound.
+            let reach = plane.reach(&parts, hit.t);
+            for k in [2.0, 2.9, 3.0, 3.1, 4.0, 4.1, 5.0, 8.0] {
+                let max = hit.t - k * reach;
+                if plane.clearly_past(hit.t, max, m, slack) {
+                    past += 1;
+                    assert!(hit.t - 3.0 * reach > max, "past {max}: {ray:?} {hit:?}");
+                }
+            }
         }
         assert!(
-            quick_decided > 20_000 && tight_decided > quick_decided && close > 100,
-            "{quick_decided} {tight_decided} {close}"
+            quick_decided > 20_000 && tight_decided > quick_decided && close > 100 && past > 1000,
+            "{quick_decided} {tight_decided} {close} {past}"
         );
     }
 }
