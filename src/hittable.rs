@@ -7,7 +7,7 @@ use alloc::sync::Arc;
 
 use glam::{DVec2, DVec3};
 
-use crate::{Aabb, Found, HitRecord, Interval, LightSample, Ray, ShadingContext};
+use crate::{Aabb, Found, HitRecord, Interval, LightSample, Made, Ray, ShadingContext};
 
 /// Something a ray can hit. Object safe: scenes mix shapes as `Box<dyn Hittable>`.
 ///
@@ -51,10 +51,11 @@ pub trait Hittable: Send + Sync {
     /// `InteractionFromIntersection` for the same reason).
     ///
     /// The two halves must agree with `hit`: `find` is `Some` with `t` exactly when `hit` is
-    /// `Some` with that `t`, and `record` then returns that hit. The provided ones keep
-    /// this by calling `hit` once and keeping its record in the [`Found`]
-    /// ([`Found::of_record`]), which `record` returns: a shape whose record is costly
-    /// overrides both, so that losing candidates never build one.
+    /// `Some` with that `t`, and the winner's record ([`Made::record`]) is then that hit.
+    /// The provided `find` keeps this by calling `hit` once and keeping its record in
+    /// `made` ([`Made::keep`]), where the search takes it from: a shape whose record is
+    /// costly overrides `find` and `record` both, so that losing candidates never build
+    /// one, and leaves `made` alone.
     ///
     /// # What a shape's `hit` may rely on
     /// Every container in hitkit (lists, [`Bvh`](crate::Bvh) and trees nested in trees,
@@ -68,29 +69,30 @@ pub trait Hittable: Send + Sync {
     ///
     /// ```
     /// use hitkit::glam::DVec3;
+    /// use hitkit::custom::Made;
     /// use hitkit::{Hittable, Interval, Quad, Ray};
     ///
     /// let quad = Quad::new(DVec3::new(-1.0, -1.0, 0.0), DVec3::X * 2.0, DVec3::Y * 2.0).unwrap();
     /// let ray = Ray::new(DVec3::new(0.5, 0.0, 2.0), DVec3::NEG_Z);
-    /// let found = quad.find(&ray, Interval::FORWARD).unwrap();
-    /// let hit = quad.record(&ray, Interval::FORWARD, &found).unwrap();
+    /// let mut made = Made::new();
+    /// let found = quad.find(&ray, Interval::FORWARD, &mut made).unwrap();
+    /// let hit = made.record(&quad, &ray, Interval::FORWARD, &found).unwrap();
     /// assert_eq!(Some(hit), quad.hit(&ray, Interval::FORWARD));
     /// ```
-    fn find(&self, ray: &Ray, ray_t: Interval) -> Option<Found> {
-        self.hit(ray, ray_t).map(Found::of_record)
+    fn find(&self, ray: &Ray, ray_t: Interval, made: &mut Made) -> Option<Found> {
+        self.hit(ray, ray_t).map(|record| made.keep(record))
     }
 
     /// The record of `found`, which [`find`](Hittable::find) returned for the same `ray`
-    /// and `ray_t` (or for `ray_t` with a larger `max`: a search lowers it as it goes).
-    /// `None` only where the record cannot be made (its point past f64's range).
+    /// and `ray_t` (or for `ray_t` with a larger `max`: a search lowers it as it goes),
+    /// not [made](Found::is_made) (a made one's record is in the search's [`Made`]:
+    /// [`Made::record`] asks this only for the others). `None` only where the record
+    /// cannot be made (its point past f64's range).
     ///
-    /// The provided one returns the record `found` holds ([`Found::record`]), and asks
-    /// `hit` again only for a `found` that holds none.
+    /// The provided one asks `hit` again, up to `found.t`: what a shape that overrides
+    /// `find` (to return crossings that are not made) and not `record` gets.
     fn record(&self, ray: &Ray, ray_t: Interval, found: &Found) -> Option<HitRecord> {
-        match found.record() {
-            Some(made) => Some(*made),
-            None => self.hit(ray, Interval::new(ray_t.min, found.t)),
-        }
+        self.hit(ray, Interval::new(ray_t.min, found.t))
     }
 }
 
@@ -156,8 +158,8 @@ macro_rules! forward_through {
                 (**self).occluded(ray, ray_t)
             }
             #[inline]
-            fn find(&self, ray: &Ray, ray_t: Interval) -> Option<Found> {
-                (**self).find(ray, ray_t)
+            fn find(&self, ray: &Ray, ray_t: Interval, made: &mut Made) -> Option<Found> {
+                (**self).find(ray, ray_t, made)
             }
             #[inline]
             fn record(&self, ray: &Ray, ray_t: Interval, found: &Found) -> Option<HitRecord> {

@@ -184,11 +184,11 @@ pub use shape::{
 
 // Crate-wide names for what `custom` exports.
 pub(crate) use light::Polygon;
-pub(crate) use record::Found;
+pub(crate) use record::{Found, Made};
 pub(crate) use shape::{CrossingRegion, Meets};
 
 /// What writing your own shape or interior takes beyond the traits at the root: the
-/// closest-hit search's [`Found`] (for [`Hittable::find`] and
+/// closest-hit search's [`Found`] and [`Made`] (for [`Hittable::find`] and
 /// [`Hittable::record`]), the region where a ray's exact crossing of a plane can lie
 /// ([`CrossingRegion`]) and an interior's answer about it
 /// ([`Meets`], for [`Interior::meets`]), and the polygons with a
@@ -196,7 +196,7 @@ pub(crate) use shape::{CrossingRegion, Meets};
 /// [`SampleInterior::polygon`]). See the guide's [own shapes](guide::own_shapes).
 pub mod custom {
     pub use crate::light::Polygon;
-    pub use crate::record::Found;
+    pub use crate::record::{Found, Made};
     pub use crate::shape::{CrossingRegion, Meets};
 }
 

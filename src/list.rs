@@ -2,27 +2,34 @@
 
 use alloc::vec::Vec;
 
-use crate::{Aabb, Found, HitRecord, Hittable, Interval, Ray};
+use crate::{Aabb, Found, HitRecord, Hittable, Interval, Made, Ray};
 
 impl<T: Hittable> Hittable for [T] {
     /// Finds the closest crossing with [`Hittable::find`] and builds the record of that one
     /// alone.
     fn hit(&self, ray: &Ray, ray_t: Interval) -> Option<HitRecord> {
         let mut closest: Option<(usize, Found)> = None;
+        // The winner's record where it was made during the search (each candidate gets its
+        // own `Made`: one that finds a crossing at exactly the closest `t` loses, and must
+        // not replace the winner's).
+        let mut kept = Made::new();
         for (index, object) in self.iter().enumerate() {
             let max = closest.map_or(ray_t.max, |(_, f)| f.t);
-            if let Some(f) = object.find(ray, Interval::new(ray_t.min, max))
+            let mut made = Made::new();
+            if let Some(f) = object.find(ray, Interval::new(ray_t.min, max), &mut made)
                 // Of hits at exactly the same t, the first object's stands.
                 && closest.is_none_or(|(_, c)| f.t < c.t)
             {
+                if f.is_made() {
+                    kept = made;
+                }
                 closest = Some((index, f));
             }
         }
         let (index, found) = closest?;
         // A record that cannot be made (past f64's range) is no hit: ask again, record by
         // record, as the objects' own `hit` would answer.
-        self[index]
-            .record(ray, ray_t, &found)
+        kept.record(&self[index], ray, ray_t, &found)
             .or_else(|| hit_by_records(self, ray, ray_t))
     }
 

@@ -14,21 +14,22 @@ pub struct MaterialId(pub u32);
 
 /// What a closest-hit search carries for a shape's crossing: its `t`, and what the shape
 /// needs to build the [`HitRecord`] later ([`Hittable::record`](crate::Hittable::record)),
-/// for the closest crossing alone.
+/// for the closest crossing alone. 40 bytes: a search copies one per better candidate.
 ///
 /// `coords` and `part` mean what the shape that made it says (a quad's `(alpha, beta)`, a
-/// mesh's barycentrics and face); only that shape reads them back. Or it holds the whole
-/// record, already made ([`Found::of_record`]): what the provided
-/// [`find`](crate::Hittable::find) keeps of a shape that implements `hit` alone, and of a
-/// container (a [`Bvh`](crate::Bvh) in a `Bvh`, a list), so that the winner's record is
-/// never asked for again: a container calls each object once per query.
+/// mesh's barycentrics and face); only that shape reads them back. Or the crossing is
+/// [made](Found::is_made): its whole record was made during the search (by a shape that
+/// implements `hit` alone, or a container, through the provided
+/// [`find`](crate::Hittable::find)) and kept in the search's [`Made`], so that no object
+/// is asked twice.
 ///
 /// ```
 /// use hitkit::glam::DVec3;
 /// use hitkit::custom::Found;
 ///
 /// let found = Found::new(2.0, DVec3::new(0.25, 0.5, 0.0), 3);
-/// assert_eq!((found.t, found.part, found.record()), (2.0, 3, None));
+/// assert_eq!((found.t, found.part, found.is_made()), (2.0, 3, false));
+/// assert!(core::mem::size_of::<Option<Found>>() <= 40);
 /// ```
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Found {
@@ -38,8 +39,8 @@ pub struct Found {
     pub coords: DVec3,
     /// Which part of the shape (a face, an object): the shape's own numbering.
     pub part: u32,
-    /// The record, where it was made during the search.
-    record: Option<HitRecord>,
+    /// Whether the record was made during the search, and kept in its [`Made`].
+    made: bool,
 }
 
 impl Found {
@@ -51,7 +52,7 @@ impl Found {
             t,
             coords,
             part,
-            record: None,
+            made: false,
         }
     }
 
@@ -62,23 +63,97 @@ impl Found {
         Self::new(t, DVec3::ZERO, 0)
     }
 
-    /// The crossing of a record already made: [`Hittable::record`](crate::Hittable::record)
-    /// returns it as it is. See also [`Found::record`].
+    /// Whether this crossing's record was made during the search: it is in the [`Made`]
+    /// the search passed ([`Made::keep`]), and [`Made::record`] returns it from there.
     #[inline]
     #[must_use]
-    pub fn of_record(record: HitRecord) -> Self {
-        Self {
-            record: Some(record),
-            ..Self::at(record.t)
+    pub fn is_made(&self) -> bool {
+        self.made
+    }
+}
+
+/// Where a closest-hit search keeps a record that was made whole while searching: the
+/// record of a shape that implements [`hit`](crate::Hittable::hit) alone (the provided
+/// [`find`](crate::Hittable::find) calls it and keeps what it returns, with
+/// [`Made::keep`]), or of a container's winner. The search passes one to each
+/// [`find`](crate::Hittable::find) it calls, keeps it where that candidate wins, and gets
+/// the winner's record through [`Made::record`]: the kept one, or the shape's
+/// [`record`](crate::Hittable::record). So a shape that implements `hit` alone is asked
+/// once per query, and a record travels only where one was made, never inside every
+/// [`Found`].
+///
+/// ```
+/// use hitkit::glam::DVec3;
+/// use hitkit::custom::Made;
+/// use hitkit::{Hittable, Interval, Quad, Ray, Sphere};
+///
+/// let shapes: Vec<Box<dyn Hittable>> = vec![
+///     Box::new(Sphere::new(DVec3::new(0.0, 0.0, -5.0), 1.0).unwrap()),
+///     Box::new(Quad::new(DVec3::new(-1.0, -1.0, -2.0), DVec3::X * 2.0, DVec3::Y * 2.0).unwrap()),
+/// ];
+/// let ray = Ray::new(DVec3::ZERO, DVec3::NEG_Z);
+/// // The closest of the two, as a list finds it: a record for the winner alone.
+/// let (mut best, mut kept) = (None, Made::new());
+/// for (i, shape) in shapes.iter().enumerate() {
+///     let max = best.map_or(f64::INFINITY, |(_, f): (usize, hitkit::custom::Found)| f.t);
+///     let mut made = Made::new();
+///     if let Some(found) = shape.find(&ray, Interval::new(0.0, max), &mut made) {
+///         if found.is_made() {
+///             kept = made;
+///         }
+///         best = Some((i, found));
+///     }
+/// }
+/// let (i, found) = best.unwrap();
+/// let hit = kept.record(&shapes[i], &ray, Interval::FORWARD, &found).unwrap();
+/// assert_eq!((i, hit.t), (1, 2.0));
+/// ```
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Made(Option<HitRecord>);
+
+impl Made {
+    /// An empty one.
+    #[inline]
+    #[must_use]
+    pub const fn new() -> Self {
+        Self(None)
+    }
+
+    /// Keeps `record` (replacing what was kept), and returns its crossing at `record.t`,
+    /// [made](Found::is_made).
+    #[inline]
+    pub fn keep(&mut self, record: HitRecord) -> Found {
+        self.0 = Some(record);
+        Found {
+            made: true,
+            ..Found::at(record.t)
         }
     }
 
-    /// The record this crossing holds, where it was made during the search
-    /// ([`Found::of_record`]).
+    /// The record of `found`, which `object`'s [`find`](crate::Hittable::find) returned
+    /// for `ray` and `ray_t` with this `Made` (or for `ray_t` with a larger `max`): the
+    /// record kept here where `found` is made, else `object`'s
+    /// [`record`](crate::Hittable::record). `None` where the record cannot be made (its
+    /// point past f64's range).
     #[inline]
-    #[must_use]
-    pub fn record(&self) -> Option<&HitRecord> {
-        self.record.as_ref()
+    pub fn record<T: crate::Hittable + ?Sized>(
+        &self,
+        object: &T,
+        ray: &Ray,
+        ray_t: Interval,
+        found: &Found,
+    ) -> Option<HitRecord> {
+        if found.made {
+            self.0
+        } else {
+            object.record(ray, ray_t, found)
+        }
+    }
+
+    /// The record kept, to be changed in place (an instance moves it to the world).
+    #[inline]
+    pub(crate) fn kept_mut(&mut self) -> Option<&mut HitRecord> {
+        self.0.as_mut()
     }
 }
 

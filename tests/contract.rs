@@ -16,6 +16,7 @@ mod support;
 
 use std::sync::atomic::{AtomicUsize, Ordering};
 
+use hitkit::custom::Made;
 use hitkit::glam::{DMat3, DVec2, DVec3};
 use hitkit::{
     Aabb, Bvh, Cuboid, Disk, Exact, HitRecord, Hittable, Interior, Interval, Mixture, Moving,
@@ -657,12 +658,13 @@ proptest! {
             prop_assert_eq!(object.occluded(&ray, interval), hit.is_some(), "light {}", i);
             // The two-step search agrees with `hit`: a crossing found is the hit's, and its
             // record the hit; only a record past f64's range may be found and not made.
-            let found = object.find(&ray, interval);
+            let mut made = Made::new();
+            let found = object.find(&ray, interval, &mut made);
             if let Some(h) = hit {
                 prop_assert_eq!(found.map(|f| f.t), Some(h.t), "light {}", i);
             }
             if let Some(f) = found {
-                prop_assert_eq!(object.record(&ray, interval, &f), hit, "light {}", i);
+                prop_assert_eq!(made.record(object, &ray, interval, &f), hit, "light {}", i);
             }
             let pdf = object.pdf_value(o, d);
             prop_assert!(pdf.is_finite() && pdf >= 0.0, "pdf {}", pdf);
@@ -679,12 +681,13 @@ proptest! {
             prop_assert_eq!(object.occluded(&ray, interval), hit.is_some(), "shape {}", i);
             // The two-step search agrees with `hit`: a crossing found is the hit's, and its
             // record the hit; only a record past f64's range may be found and not made.
-            let found = object.find(&ray, interval);
+            let mut made = Made::new();
+            let found = object.find(&ray, interval, &mut made);
             if let Some(h) = hit {
                 prop_assert_eq!(found.map(|f| f.t), Some(h.t), "shape {}", i);
             }
             if let Some(f) = found {
-                prop_assert_eq!(object.record(&ray, interval, &f), hit, "shape {}", i);
+                prop_assert_eq!(made.record(object, &ray, interval, &f), hit, "shape {}", i);
             }
         }
         if !objects.is_empty() {

@@ -10,6 +10,7 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
 
 use common::medium::ConstantMedium;
+use hitkit::custom::Made;
 use hitkit::glam::{DQuat, DVec3};
 use hitkit::{
     Aabb, Bvh, Cuboid, HitRecord, Hittable, Interval, MaterialId, Moving, Quad, Ray, Sphere,
@@ -130,8 +131,9 @@ fn every_container_asks_each_object_at_most_once_per_query() {
                 ("hit", &|| container.hit(&ray, forward).is_some()),
                 ("occluded", &|| container.occluded(&ray, forward)),
                 ("find + record", &|| {
-                    let found = container.find(&ray, forward);
-                    found.is_some_and(|f| container.record(&ray, forward, &f).is_some())
+                    let mut made = Made::new();
+                    let found = container.find(&ray, forward, &mut made);
+                    found.is_some_and(|f| made.record(&container, &ray, forward, &f).is_some())
                 }),
             ];
             for (query, ask) in queries {

@@ -25,7 +25,7 @@ use node::Node;
 use glam::DVec3;
 
 use crate::simd::dispatch;
-use crate::{Aabb, Found, HitRecord, Hittable, Interval, Ray};
+use crate::{Aabb, Found, HitRecord, Hittable, Interval, Made, Ray};
 
 /// Deepest a tree gets; the traversal stack has this many entries. The build switches to
 /// median splits (which halve the count) well before it: see `build::MEDIAN_FROM_DEPTH`.
@@ -235,11 +235,12 @@ impl<T: Hittable> Bvh<T> {
     /// slice.
     #[must_use]
     pub fn hit_with_index(&self, ray: &Ray, ray_t: Interval) -> Option<(usize, HitRecord)> {
+        let mut kept = Made::new();
         let (index, position, found) = dispatch(
             #[inline(always)]
-            || self.closest(ray, ray_t, &mut ()),
+            || self.closest(ray, ray_t, &mut (), &mut kept),
         )?;
-        match self.objects[position].record(ray, ray_t, &found) {
+        match kept.record(&self.objects[position], ray, ray_t, &found) {
             Some(hit) => Some((index, hit)),
             // A record that cannot be made (past f64's range) is no hit: ask again, as the
             // objects' own `hit` would answer.
@@ -267,7 +268,7 @@ impl<T: Hittable> Bvh<T> {
     #[must_use]
     pub fn hit_visits(&self, ray: &Ray, ray_t: Interval) -> Visits {
         let mut visits = Visits::default();
-        self.closest(ray, ray_t, &mut visits);
+        self.closest(ray, ray_t, &mut visits, &mut Made::new());
         visits
     }
 
@@ -281,7 +282,8 @@ impl<T: Hittable> Bvh<T> {
     }
 
     /// The closest crossing by the objects' `find`: the object's number, its position in
-    /// `self.objects`, and the crossing. (Inlined always, as `any`, so that
+    /// `self.objects`, and the crossing, whose record is in `kept` where it is
+    /// [made](Found::is_made). (Inlined always, as `any`, so that
     /// [`dispatch`](crate::simd::dispatch) compiles all of it for AVX2.)
     #[inline(always)]
     fn closest(
@@ -289,6 +291,7 @@ impl<T: Hittable> Bvh<T> {
         ray: &Ray,
         ray_t: Interval,
         tally: &mut impl Tally,
+        kept: &mut Made,
     ) -> Option<(usize, usize, Found)> {
         let mut closest: Option<(usize, usize, Found)> = None;
         let mut t_max = ray_t.max;
@@ -305,9 +308,16 @@ impl<T: Hittable> Bvh<T> {
                 {
                     let index = index as usize;
                     tests += 1;
-                    if let Some(found) = object.find(ray, Interval::new(ray_t.min, *t_max))
+                    // Each candidate's own `Made`, as in a list: one that loses a tie must
+                    // not replace the winner's record.
+                    let mut made = Made::new();
+                    if let Some(found) =
+                        object.find(ray, Interval::new(ray_t.min, *t_max), &mut made)
                         && (found.t < *t_max || closest.is_none_or(|(best, _, _)| index < best))
                     {
+                        if found.is_made() {
+                            *kept = made;
+                        }
                         *t_max = found.t;
                         closest = Some((index, first + k, found));
                     }
@@ -484,8 +494,8 @@ mod tests {
                         c.map(|(i, p, f)| (i, p, f.t.to_bits(), f.coords.to_array().map(f64::to_bits)))
                     };
                     prop_assert_eq!(
-                        key(bvh.closest(&ray, ray_t, &mut ())),
-                        key(dispatch(#[inline(always)] || bvh.closest(&ray, ray_t, &mut ())))
+                        key(bvh.closest(&ray, ray_t, &mut (), &mut crate::Made::new())),
+                        key(dispatch(#[inline(always)] || bvh.closest(&ray, ray_t, &mut (), &mut crate::Made::new())))
                     );
                     prop_assert_eq!(
                         bvh.any(&ray, ray_t, &mut ()),

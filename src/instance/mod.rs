@@ -8,7 +8,7 @@ mod transformed;
 pub use moving::Moving;
 pub use transformed::Transformed;
 
-use crate::{Aabb, Found, HitRecord, Interval, Ray};
+use crate::{Aabb, Found, HitRecord, Interval, Made, Ray};
 
 /// The `t` of the object's crossing (along the moved ray) as the instance's: kept within
 /// the instance's box span along the whole of `ray`, since moving the ray rounds and can
@@ -22,12 +22,13 @@ pub(crate) fn settle(bbox: &Aabb, ray: &Ray, ray_t: Interval, t: f64) -> Option<
 }
 
 /// The object's crossing `found` (along the moved ray) as the instance's, its `t`
-/// [settled](settle). A record the object made during its search is moved to the world
-/// now (`to_world`), so that a record held by the instance's `Found` is always its own; so
-/// is the record of a crossing whose `t` had to move (rare), made with `record`.
+/// [settled](settle). A record the object made during its search (kept in `made`) is moved
+/// to the world now (`to_world`), so that a record kept is always the instance's own; so is
+/// the record of a crossing whose `t` had to move (rare), made with `record` and kept.
 #[inline]
 pub(crate) fn found_in_world(
     found: Found,
+    made: &mut Made,
     bbox: &Aabb,
     ray: &Ray,
     ray_t: Interval,
@@ -35,30 +36,22 @@ pub(crate) fn found_in_world(
     to_world: impl FnOnce(HitRecord) -> HitRecord,
 ) -> Option<Found> {
     let t = settle(bbox, ray, ray_t, found.t)?;
-    let made = match found.record() {
-        Some(local) => *local,
-        None if t == found.t => return Some(found),
-        None => record(&found)?,
-    };
-    Some(Found::of_record(HitRecord {
-        t,
-        ..to_world(made)
-    }))
-}
-
-/// The record of a crossing that [`found_in_world`] returned: the one it holds, or the
-/// object's own (`record`) moved to the world, at the crossing's `t`.
-#[inline]
-pub(crate) fn record_in_world(
-    found: &Found,
-    record: impl FnOnce(&Found) -> Option<HitRecord>,
-    to_world: impl FnOnce(HitRecord) -> HitRecord,
-) -> Option<HitRecord> {
-    if let Some(made) = found.record() {
-        return Some(*made);
+    if found.is_made() {
+        let local = made.kept_mut()?;
+        *local = HitRecord {
+            t,
+            ..to_world(*local)
+        };
+        let mut found = found;
+        found.t = t;
+        return Some(found);
     }
-    Some(HitRecord {
-        t: found.t,
-        ..to_world(record(found)?)
-    })
+    if t == found.t {
+        return Some(found);
+    }
+    let local = record(&found)?;
+    Some(made.keep(HitRecord {
+        t,
+        ..to_world(local)
+    }))
 }

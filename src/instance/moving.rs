@@ -5,7 +5,7 @@ use glam::DVec3;
 
 use crate::instance;
 use crate::math::gamma;
-use crate::{Aabb, Found, GeometryError, HitRecord, Hittable, Interval, Ray};
+use crate::{Aabb, Found, GeometryError, HitRecord, Hittable, Interval, Made, Ray};
 
 /// `object` moving in a straight line: at time `tau` it is moved by `tau * displacement`,
 /// for `tau` the ray's [`time`](Ray::time) clamped to `[0, 1]` (the shutter interval, as in
@@ -124,16 +124,17 @@ impl<T: Hittable> Hittable for Moving<T> {
     /// The object's crossing, found along the ray moved back, with its `t` kept within
     /// this instance's box along `ray`, as `hit` reports it.
     #[inline]
-    fn find(&self, ray: &Ray, ray_t: Interval) -> Option<Found> {
+    fn find(&self, ray: &Ray, ray_t: Interval, made: &mut Made) -> Option<Found> {
         // Near f64's end the record can overflow: `hit` decides there.
         if self.near_overflow {
-            return self.hit(ray, ray_t).map(Found::of_record);
+            return self.hit(ray, ray_t).map(|hit| made.keep(hit));
         }
         let offset = self.offset_at(ray.time);
         let local = back_by(ray, offset);
-        let found = self.object.find(&local, ray_t)?;
+        let found = self.object.find(&local, ray_t, made)?;
         instance::found_in_world(
             found,
+            made,
             &self.bbox,
             ray,
             ray_t,
@@ -145,11 +146,11 @@ impl<T: Hittable> Hittable for Moving<T> {
     #[inline]
     fn record(&self, ray: &Ray, ray_t: Interval, found: &Found) -> Option<HitRecord> {
         let offset = self.offset_at(ray.time);
-        instance::record_in_world(
-            found,
-            |f| self.object.record(&back_by(ray, offset), ray_t, f),
-            |h| moved(h, offset),
-        )
+        let local = self.object.record(&back_by(ray, offset), ray_t, found)?;
+        Some(HitRecord {
+            t: found.t,
+            ..moved(local, offset)
+        })
     }
 
     #[inline]

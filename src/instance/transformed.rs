@@ -5,7 +5,9 @@ use glam::{BVec3, DMat3, DQuat, DVec2, DVec3, DVec4};
 use crate::instance;
 use crate::light::{reaching, toward_middle};
 use crate::math::{direction_scale, gamma, ordinary, sin_cos};
-use crate::{Aabb, Found, GeometryError, HitRecord, Hittable, Interval, PdfHittable, Ray};
+use crate::{
+    Aabb, Found, GeometryError, HitRecord, Hittable, Interval, Made, PdfHittable, Ray,
+};
 
 /// `object` moved rigidly: rotated about the origin, then translated. Rays are taken into
 /// the object's space (`t` is unchanged by a rigid motion), hit there, and the hit comes
@@ -283,16 +285,17 @@ impl<T: Hittable> Hittable for Transformed<T> {
     /// The object's crossing, found along the ray in object space, with its `t` kept
     /// within this instance's box along `ray`, as `hit` reports it.
     #[inline]
-    fn find(&self, ray: &Ray, ray_t: Interval) -> Option<Found> {
+    fn find(&self, ray: &Ray, ray_t: Interval, made: &mut Made) -> Option<Found> {
         // Near f64's end the record can overflow, so `hit` decides there (and for a
         // direction of extreme length, which it rescales).
         if self.near_overflow || !ordinary(ray.direction) {
-            return self.hit(ray, ray_t).map(Found::of_record);
+            return self.hit(ray, ray_t).map(|hit| made.keep(hit));
         }
         let local = self.ray_to_object(ray);
-        let found = self.object.find(&local, ray_t)?;
+        let found = self.object.find(&local, ray_t, made)?;
         instance::found_in_world(
             found,
+            made,
             &self.bbox,
             ray,
             ray_t,
@@ -303,11 +306,11 @@ impl<T: Hittable> Hittable for Transformed<T> {
 
     #[inline]
     fn record(&self, ray: &Ray, ray_t: Interval, found: &Found) -> Option<HitRecord> {
-        instance::record_in_world(
-            found,
-            |f| self.object.record(&self.ray_to_object(ray), ray_t, f),
-            |h| self.hit_to_world(h),
-        )
+        let local = self.object.record(&self.ray_to_object(ray), ray_t, found)?;
+        Some(HitRecord {
+            t: found.t,
+            ..self.hit_to_world(local)
+        })
     }
 
     #[inline]

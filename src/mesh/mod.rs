@@ -20,7 +20,9 @@ use glam::{DVec2, DVec3};
 
 use crate::bvh::{Shape, Tree};
 use crate::simd::dispatch;
-use crate::{Aabb, Found, GeometryError, HitRecord, Hittable, Interval, MaterialId, Ray};
+use crate::{
+    Aabb, Found, GeometryError, HitRecord, Hittable, Interval, Made, MaterialId, Ray,
+};
 
 /// An indexed triangle mesh: vertex positions shared by faces that name them by index,
 /// optional per-vertex normals and texture coordinates, and a tree over the faces.
@@ -235,7 +237,7 @@ impl Hittable for TriangleMesh {
     }
 
     /// The face's barycentrics in `coords`, its position in the tree's order in `part`.
-    fn find(&self, ray: &Ray, ray_t: Interval) -> Option<Found> {
+    fn find(&self, ray: &Ray, ray_t: Interval, _: &mut Made) -> Option<Found> {
         let (position, crossing) = dispatch(
             #[inline(always)]
             || self.closest(ray, ray_t, &mut ()),

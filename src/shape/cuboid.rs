@@ -3,7 +3,9 @@
 
 use glam::DVec3;
 
-use crate::{Aabb, Found, GeometryError, HitRecord, Hittable, Interval, MaterialId, Quad, Ray};
+use crate::{
+    Aabb, Found, GeometryError, HitRecord, Hittable, Interval, Made, MaterialId, Quad, Ray,
+};
 
 /// The axis-aligned box with opposite corners `a` and `b`, as six [`Quad`]s with outward
 /// normals (the book's `box(a, b, mat)`): a ray from outside hits it with `front_face`
@@ -130,9 +132,9 @@ impl Hittable for Cuboid {
 
     /// The closest face's crossing, that face's number (in [`Cuboid::faces`]'s order) in
     /// `part`.
-    fn find(&self, ray: &Ray, ray_t: Interval) -> Option<Found> {
+    fn find(&self, ray: &Ray, ray_t: Interval, made: &mut Made) -> Option<Found> {
         if self.near_overflow {
-            return self.hit(ray, ray_t).map(Found::of_record);
+            return self.hit(ray, ray_t).map(|hit| made.keep(hit));
         }
         if !self.bbox.hit(ray, ray_t) {
             return None;
@@ -140,7 +142,7 @@ impl Hittable for Cuboid {
         let mut closest: Option<Found> = None;
         for (face, quad) in self.faces.iter().enumerate() {
             let max = closest.map_or(ray_t.max, |c| c.t);
-            if let Some(mut found) = quad.find(ray, Interval::new(ray_t.min, max))
+            if let Some(mut found) = quad.find(ray, Interval::new(ray_t.min, max), made)
                 // Of crossings at exactly the same t, the earlier face's stands.
                 && closest.is_none_or(|c| found.t < c.t)
             {
@@ -154,9 +156,6 @@ impl Hittable for Cuboid {
     /// `None` for a `found` naming no face.
     #[inline]
     fn record(&self, ray: &Ray, ray_t: Interval, found: &Found) -> Option<HitRecord> {
-        if let Some(made) = found.record() {
-            return Some(*made);
-        }
         self.faces
             .get(found.part as usize)?
             .record(ray, ray_t, found)

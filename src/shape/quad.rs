@@ -7,7 +7,7 @@ use super::{Crossing, Decided, Pending};
 use crate::light::{Spherical, View, reaching, toward_middle, unit};
 use crate::math::{direction_scale, gamma, unit_and_length};
 use crate::{
-    Aabb, Found, GeometryError, HitRecord, Hittable, Interior, Interval, MaterialId, Meets,
+    Aabb, Found, GeometryError, HitRecord, Hittable, Interior, Interval, Made, MaterialId, Meets,
     Parallelogram, PdfHittable, Plane, PlaneHit, Polygon, Ray, SampleInterior, Sampling,
 };
 
@@ -258,7 +258,7 @@ impl<S: Interior> Hittable for Quad<S> {
 
     /// The crossing's `(alpha, beta)` in `coords`.
     #[inline]
-    fn find(&self, ray: &Ray, ray_t: Interval) -> Option<Found> {
+    fn find(&self, ray: &Ray, ray_t: Interval, _: &mut Made) -> Option<Found> {
         let hit = self.decide(ray, ray_t)?;
         Some(Found::new(hit.t, DVec3::new(hit.alpha, hit.beta, 0.0), 0))
     }

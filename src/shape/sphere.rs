@@ -9,7 +9,7 @@ use glam::{DVec2, DVec3};
 use crate::light::{reaching, toward_middle};
 use crate::math::{acos, atan2, direction_scale, gamma, sin_cos, sqrt, unit_and_length};
 use crate::{
-    Aabb, Found, GeometryError, HitRecord, Hittable, Interval, MaterialId, PdfHittable, Ray,
+    Aabb, Found, GeometryError, HitRecord, Hittable, Interval, Made, MaterialId, PdfHittable, Ray,
 };
 
 /// A sphere: centre and radius. `uv` is `(phi / 2 pi, theta / pi)`, `phi` around the y axis
@@ -166,12 +166,12 @@ impl Sphere {
 impl Hittable for Sphere {
     #[inline]
     fn hit(&self, ray: &Ray, ray_t: Interval) -> Option<HitRecord> {
-        self.record(ray, ray_t, &self.find(ray, ray_t)?)
+        self.record(ray, ray_t, &self.find(ray, ray_t, &mut Made::new())?)
     }
 
     /// In `coords`, the vector from the centre to the hit, before it is made unit length:
     /// the point, normal and `uv` (an `acos` and an `atan2`) are made for the winner alone.
-    fn find(&self, ray: &Ray, ray_t: Interval) -> Option<Found> {
+    fn find(&self, ray: &Ray, ray_t: Interval, _: &mut Made) -> Option<Found> {
         if !ray.is_valid() {
             return None;
         }

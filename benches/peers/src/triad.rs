@@ -8,6 +8,7 @@ use std::hint::black_box;
 use std::time::{Duration, Instant};
 
 use hitkit::glam::{DVec3, UVec2};
+use hitkit::custom::Made;
 use hitkit::{Bvh, Hittable, Interval, Quad, Ray, Triangle, TriangleMesh, Visits};
 use obvhs::BvhBuildParams;
 use obvhs::cwbvh::CwBvh;
@@ -388,7 +389,7 @@ impl Library for MeshFind {
     }
     fn closest(&self, ray: &Ray) -> Hit {
         self.0
-            .find(ray, Interval::FORWARD)
+            .find(ray, Interval::FORWARD, &mut Made::new())
             .map(|found| (found.part as usize, found.t))
     }
     fn occluded(&self, ray: &Ray) -> bool {
