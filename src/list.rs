@@ -9,28 +9,32 @@ impl<T: Hittable> Hittable for [T] {
     /// alone.
     fn hit(&self, ray: &Ray, ray_t: Interval) -> Option<HitRecord> {
         let mut closest: Option<(usize, Found)> = None;
-        // The winner's record where it was made during the search (each candidate gets its
-        // own `Made`: one that finds a crossing at exactly the closest `t` loses, and must
-        // not replace the winner's).
-        let mut kept = Made::new();
+        // Two places for a record made during the search: candidates write the one that
+        // does not hold the winner's, so that one that ties and loses (or that made a
+        // record and found nothing) does not replace it. (Tried: a fresh `Made` per
+        // candidate; it was copied in whole before every call, slower.)
+        let mut made = [Made::new(), Made::new()];
+        let mut free = 0;
         for (index, object) in self.iter().enumerate() {
             let max = closest.map_or(ray_t.max, |(_, f)| f.t);
-            let mut made = Made::new();
-            if let Some(f) = object.find(ray, Interval::new(ray_t.min, max), &mut made)
+            if let Some(f) = object.find(ray, Interval::new(ray_t.min, max), &mut made[free])
                 // Of hits at exactly the same t, the first object's stands.
                 && closest.is_none_or(|(_, c)| f.t < c.t)
             {
                 if f.is_made() {
-                    kept = made;
+                    free ^= 1;
                 }
                 closest = Some((index, f));
             }
         }
         let (index, found) = closest?;
-        // A record that cannot be made (past f64's range) is no hit: ask again, record by
-        // record, as the objects' own `hit` would answer.
-        kept.record(&self[index], ray, ray_t, &found)
-            .or_else(|| hit_by_records(self, ray, ray_t))
+        let hit = made[free ^ 1].record(&self[index], ray, ray_t, &found);
+        if hit.is_none() {
+            // A record that cannot be made (past f64's range) is no hit: ask again, record
+            // by record, as the objects' own `hit` would answer.
+            return hit_by_records(self, ray, ray_t);
+        }
+        hit
     }
 
     fn bounding_box(&self) -> Aabb {

@@ -108,22 +108,44 @@ impl Found {
 /// let hit = kept.record(&shapes[i], &ray, Interval::FORWARD, &found).unwrap();
 /// assert_eq!((i, hit.t), (1, 2.0));
 /// ```
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct Made(Option<HitRecord>);
+///
+/// What it holds means something only for a made [`Found`]: a search tells by
+/// [`Found::is_made`], so a new one is a zeroed record (set by a few stores, where an
+/// empty `Option<HitRecord>` was copied in whole, as records of more than 128 bytes are).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Made(HitRecord);
+
+impl Default for Made {
+    fn default() -> Self {
+        Self::new()
+    }
+}
 
 impl Made {
-    /// An empty one.
+    /// One that holds no record of a made crossing yet.
     #[inline]
     #[must_use]
     pub const fn new() -> Self {
-        Self(None)
+        Self(HitRecord {
+            t: 0.0,
+            point: DVec3::ZERO,
+            point_error: DVec3::ZERO,
+            normal: DVec3::ZERO,
+            shading_normal: DVec3::ZERO,
+            front_face: false,
+            uv: DVec2::ZERO,
+            material: MaterialId(0),
+            primitive: None,
+            instance: None,
+            time: 0.0,
+        })
     }
 
     /// Keeps `record` (replacing what was kept), and returns its crossing at `record.t`,
     /// [made](Found::is_made).
     #[inline]
     pub fn keep(&mut self, record: HitRecord) -> Found {
-        self.0 = Some(record);
+        self.0 = record;
         Found {
             made: true,
             ..Found::at(record.t)
@@ -144,7 +166,7 @@ impl Made {
         found: &Found,
     ) -> Option<HitRecord> {
         if found.made {
-            self.0
+            Some(self.0)
         } else {
             object.record(ray, ray_t, found)
         }
@@ -152,8 +174,8 @@ impl Made {
 
     /// The record kept, to be changed in place (an instance moves it to the world).
     #[inline]
-    pub(crate) fn kept_mut(&mut self) -> Option<&mut HitRecord> {
-        self.0.as_mut()
+    pub(crate) fn kept_mut(&mut self) -> &mut HitRecord {
+        &mut self.0
     }
 }
 

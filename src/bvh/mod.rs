@@ -235,12 +235,13 @@ impl<T: Hittable> Bvh<T> {
     /// slice.
     #[must_use]
     pub fn hit_with_index(&self, ray: &Ray, ray_t: Interval) -> Option<(usize, HitRecord)> {
-        let mut kept = Made::new();
+        let mut made = [Made::new(), Made::new()];
         let (index, position, found) = dispatch(
             #[inline(always)]
-            || self.closest(ray, ray_t, &mut (), &mut kept),
+            || self.closest(ray, ray_t, &mut (), &mut made),
         )?;
-        match kept.record(&self.objects[position], ray, ray_t, &found) {
+        match made[usize::from(found.is_made())].record(&self.objects[position], ray, ray_t, &found)
+        {
             Some(hit) => Some((index, hit)),
             // A record that cannot be made (past f64's range) is no hit: ask again, as the
             // objects' own `hit` would answer.
@@ -268,7 +269,7 @@ impl<T: Hittable> Bvh<T> {
     #[must_use]
     pub fn hit_visits(&self, ray: &Ray, ray_t: Interval) -> Visits {
         let mut visits = Visits::default();
-        self.closest(ray, ray_t, &mut visits, &mut Made::new());
+        self.closest(ray, ray_t, &mut visits, &mut [Made::new(), Made::new()]);
         visits
     }
 
@@ -282,7 +283,7 @@ impl<T: Hittable> Bvh<T> {
     }
 
     /// The closest crossing by the objects' `find`: the object's number, its position in
-    /// `self.objects`, and the crossing, whose record is in `kept` where it is
+    /// `self.objects`, and the crossing, whose record is in `made[1]` where it is
     /// [made](Found::is_made). (Inlined always, as `any`, so that
     /// [`dispatch`](crate::simd::dispatch) compiles all of it for AVX2.)
     #[inline(always)]
@@ -291,7 +292,7 @@ impl<T: Hittable> Bvh<T> {
         ray: &Ray,
         ray_t: Interval,
         tally: &mut impl Tally,
-        kept: &mut Made,
+        made: &mut [Made; 2],
     ) -> Option<(usize, usize, Found)> {
         let mut closest: Option<(usize, usize, Found)> = None;
         let mut t_max = ray_t.max;
@@ -308,15 +309,15 @@ impl<T: Hittable> Bvh<T> {
                 {
                     let index = index as usize;
                     tests += 1;
-                    // Each candidate's own `Made`, as in a list: one that loses a tie must
-                    // not replace the winner's record.
-                    let mut made = Made::new();
+                    // Candidates write `made[0]`, and a winner's record moves to
+                    // `made[1]`, so that one that ties and loses does not replace it (as
+                    // in a list, whose two places take turns).
                     if let Some(found) =
-                        object.find(ray, Interval::new(ray_t.min, *t_max), &mut made)
+                        object.find(ray, Interval::new(ray_t.min, *t_max), &mut made[0])
                         && (found.t < *t_max || closest.is_none_or(|(best, _, _)| index < best))
                     {
                         if found.is_made() {
-                            *kept = made;
+                            made.swap(0, 1);
                         }
                         *t_max = found.t;
                         closest = Some((index, first + k, found));
@@ -494,8 +495,8 @@ mod tests {
                         c.map(|(i, p, f)| (i, p, f.t.to_bits(), f.coords.to_array().map(f64::to_bits)))
                     };
                     prop_assert_eq!(
-                        key(bvh.closest(&ray, ray_t, &mut (), &mut crate::Made::new())),
-                        key(dispatch(#[inline(always)] || bvh.closest(&ray, ray_t, &mut (), &mut crate::Made::new())))
+                        key(bvh.closest(&ray, ray_t, &mut (), &mut [crate::Made::new(), crate::Made::new()])),
+                        key(dispatch(#[inline(always)] || bvh.closest(&ray, ray_t, &mut (), &mut [crate::Made::new(), crate::Made::new()])))
                     );
                     prop_assert_eq!(
                         bvh.any(&ray, ray_t, &mut ()),

@@ -37,7 +37,7 @@ pub(crate) fn found_in_world(
 ) -> Option<Found> {
     let t = settle(bbox, ray, ray_t, found.t)?;
     if found.is_made() {
-        let local = made.kept_mut()?;
+        let local = made.kept_mut();
         *local = HitRecord {
             t,
             ..to_world(*local)

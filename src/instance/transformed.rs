@@ -5,9 +5,7 @@ use glam::{BVec3, DMat3, DQuat, DVec2, DVec3, DVec4};
 use crate::instance;
 use crate::light::{reaching, toward_middle};
 use crate::math::{direction_scale, gamma, ordinary, sin_cos};
-use crate::{
-    Aabb, Found, GeometryError, HitRecord, Hittable, Interval, Made, PdfHittable, Ray,
-};
+use crate::{Aabb, Found, GeometryError, HitRecord, Hittable, Interval, Made, PdfHittable, Ray};
 
 /// `object` moved rigidly: rotated about the origin, then translated. Rays are taken into
 /// the object's space (`t` is unchanged by a rigid motion), hit there, and the hit comes

@@ -7,8 +7,8 @@
 use std::hint::black_box;
 use std::time::{Duration, Instant};
 
-use hitkit::glam::{DVec3, UVec2};
 use hitkit::custom::Made;
+use hitkit::glam::{DVec3, UVec2};
 use hitkit::{Bvh, Hittable, Interval, Quad, Ray, Triangle, TriangleMesh, Visits};
 use obvhs::BvhBuildParams;
 use obvhs::cwbvh::CwBvh;
