@@ -6,6 +6,7 @@
 //! once per query, so the distance drawn is the distance reported: the fog is not biased
 //! toward its surface, as it is in a container that calls `hit` again for the record.
 
+use hitkit::custom::Made;
 use hitkit::glam::DVec3;
 use hitkit::{Aabb, HitRecord, Hittable, Interval, MaterialId, Ray};
 
@@ -39,10 +40,13 @@ impl<B: Hittable, U: Fn(&Ray) -> f64 + Send + Sync> Hittable for ConstantMedium<
     fn hit(&self, ray: &Ray, ray_t: Interval) -> Option<HitRecord> {
         // Where the ray enters the boundary (perhaps behind its origin) and where it
         // leaves: the exit is found from the entry by a ray spawned there, which does not
-        // find the surface it leaves (no 0.0001 as in the book).
+        // find the surface it leaves (no 0.0001 as in the book). Of the exit only `t` is
+        // read: `find` leaves its record (a sphere's `uv`: an `acos` and an `atan2`) unmade.
         let entry = self.boundary.hit(ray, Interval::UNIVERSE)?;
         let inside = entry.spawn_ray(ray.direction);
-        let exit = self.boundary.hit(&inside, Interval::FORWARD)?;
+        let exit = self
+            .boundary
+            .find(&inside, Interval::FORWARD, &mut Made::new())?;
         let (enter_t, exit_t) = (entry.t.max(ray_t.min), (entry.t + exit.t).min(ray_t.max));
         if enter_t >= exit_t {
             return None;
