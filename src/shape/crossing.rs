@@ -374,7 +374,8 @@ impl Plane {
     /// no coordinates.
     #[inline(always)]
     fn clearly_past(&self, t: f64, max: f64, m: f64, slack: f64) -> bool {
-        slack > 0.0 && (t - max) * slack > 4.0 * (self.quick.height * m + self.tolerance)
+        // (`t > max` first: most crossings a search tests come before its first hit.)
+        t > max && slack > 0.0 && (t - max) * slack > 4.0 * (self.quick.height * m + self.tolerance)
     }
 
     /// [`Plane::clearly`] with its terms bounded by multiples of `m = |q - o|_1 + |t| |d|_1`

@@ -246,7 +246,10 @@ impl<S: Interior> Quad<S> {
 }
 
 impl<S: Interior> Hittable for Quad<S> {
-    #[inline]
+    // Inlined always: in a caller's loop over quads the per-ray work is shared, and the
+    // record's registers are not saved around a call (1.55x -> 1.40x the book's time per
+    // ray through a box's six faces, the accuracy example's rays, in alternation).
+    #[inline(always)]
     fn hit(&self, ray: &Ray, ray_t: Interval) -> Option<HitRecord> {
         self.build(ray, self.decide(ray, ray_t)?)
     }
@@ -257,7 +260,7 @@ impl<S: Interior> Hittable for Quad<S> {
     }
 
     /// The crossing's `(alpha, beta)` in `coords`.
-    #[inline]
+    #[inline(always)]
     fn find(&self, ray: &Ray, ray_t: Interval, _: &mut Made) -> Option<Found> {
         let hit = self.decide(ray, ray_t)?;
         Some(Found::new(hit.t, DVec3::new(hit.alpha, hit.beta, 0.0), 0))
