@@ -28,14 +28,16 @@ Usage: cargo run --release -p hitkit-port -- [OPTIONS]
 Options:
   --rounds N     renders of each scene on each side, alternating [default: 3]
   --scale S      image width and samples per pixel as a fraction of the defaults (The Next
-                 Week's final scene 200 x 200 at 64 samples, the Cornell box 300 x 300 at
-                 100, with hitkit's lamp sampled by solid angle and by area), for a quick
-                 look [default: 1]
+                 Week's quads 400 x 400 at 100 samples, its final scene 200 x 200 at 64, the
+                 Cornell box 300 x 300 at 100, with hitkit's lamp sampled by solid angle and
+                 by area), for a quick look [default: 1]
   --only SIDE    render on one side only, `hitkit` or `book` (for a profiler), no table
+  --scene TEXT   only the scenes whose name contains TEXT (`quads`, `final`, `Cornell`)
   -h, --help     this text";
 
 fn main() -> ExitCode {
     let (mut rounds, mut scale, mut only) = (3usize, 1.0f64, None);
+    let mut scene_filter = String::new();
     let mut args = std::env::args().skip(1);
     while let Some(flag) = args.next() {
         if flag == "-h" || flag == "--help" {
@@ -46,6 +48,10 @@ fn main() -> ExitCode {
         let ok = match flag.as_str() {
             "--rounds" => value.parse().map(|v| rounds = v).is_ok() && rounds > 0,
             "--scale" => value.parse().map(|v| scale = v).is_ok() && scale > 0.0 && scale <= 1.0,
+            "--scene" => {
+                scene_filter = value.clone();
+                true
+            }
             "--only" if value == "hitkit" || value == "book" => {
                 only = Some(value.clone());
                 true
@@ -59,10 +65,15 @@ fn main() -> ExitCode {
     }
     let size = |n: f64| ((n * scale).round() as usize).max(1);
     let scenes = [
+        scenes::quads(size(400.0), size(100.0)),
         scenes::final_scene(size(200.0), size(64.0)),
         scenes::cornell(size(300.0), size(100.0), false),
         scenes::cornell(size(300.0), size(100.0), true),
     ];
+    let scenes: Vec<_> = scenes
+        .into_iter()
+        .filter(|s| s.name.contains(scene_filter.as_str()))
+        .collect();
     if let Some(side) = only {
         for scene in &scenes {
             let r = if side == "hitkit" {

@@ -160,7 +160,7 @@ fn ray_color<B: Backend>(b: &B, scene: &Scene, ray: &Ray, depth: u32, rng: &mut 
         return Color::ZERO;
     }
     let Some(rec) = b.hit(ray) else {
-        return Color::ZERO; // black background
+        return scene.background;
     };
     let next = |dir: DVec3, rng: &mut Rng| ray_color(b, scene, &b.spawn(&rec, dir), depth - 1, rng);
     match scene.materials[rec.material.0 as usize] {

@@ -1,4 +1,4 @@
-//! The two scenes, described once as data and built twice: on the book's own geometry
+//! The three scenes, described once as data and built twice: on the book's own geometry
 //! ([`naive`](crate::naive)) and on hitkit, each the way a port of the book writes it
 //! (`Box<dyn Hittable>` lists and nested trees, materials by id).
 
@@ -30,6 +30,8 @@ pub struct Scene {
     /// Sampled for next-event estimation (the book's third volume), where not empty.
     pub lights: Vec<Shape>,
     pub materials: Vec<Material>,
+    /// What a ray that hits nothing sees.
+    pub background: DVec3,
     /// hitkit samples its quad lights by area, as the book does (by default it samples a
     /// rectangle by the solid angle it subtends: dearer per sample, less noisy).
     pub area_lights: bool,
@@ -200,6 +202,7 @@ pub fn final_scene(width: usize, samples: usize) -> Scene {
         world,
         lights: Vec::new(),
         materials,
+        background: DVec3::ZERO,
         area_lights: false,
         camera: Camera::new(
             DVec3::new(478.0, 278.0, -600.0),
@@ -271,8 +274,41 @@ pub fn cornell(width: usize, samples: usize, area_lights: bool) -> Scene {
         world,
         lights: vec![lamp(3), ball(4)],
         materials,
+        background: DVec3::ZERO,
         area_lights,
         camera: Camera::new(v(278.0, 278.0, -800.0), v(278.0, 278.0, 0.0), 40.0),
+        width,
+        samples,
+        depth: 50,
+    }
+}
+
+/// *The Next Week*'s quads: five quads of five colours around the camera, under a sky.
+pub fn quads(width: usize, samples: usize) -> Scene {
+    use Material::*;
+    let v = |x, y, z| DVec3::new(x, y, z);
+    let materials = vec![
+        Lambertian(v(1.0, 0.2, 0.2)), // 0 left red
+        Lambertian(v(0.2, 1.0, 0.2)), // 1 back green
+        Lambertian(v(0.2, 0.2, 1.0)), // 2 right blue
+        Lambertian(v(1.0, 0.5, 0.0)), // 3 upper orange
+        Lambertian(v(0.2, 0.8, 0.8)), // 4 lower teal
+    ];
+    let world = vec![
+        Shape::Quad(v(-3.0, -2.0, 5.0), v(0.0, 0.0, -4.0), v(0.0, 4.0, 0.0), 0),
+        Shape::Quad(v(-2.0, -2.0, 0.0), v(4.0, 0.0, 0.0), v(0.0, 4.0, 0.0), 1),
+        Shape::Quad(v(3.0, -2.0, 1.0), v(0.0, 0.0, 4.0), v(0.0, 4.0, 0.0), 2),
+        Shape::Quad(v(-2.0, 3.0, 1.0), v(4.0, 0.0, 0.0), v(0.0, 0.0, 4.0), 3),
+        Shape::Quad(v(-2.0, -3.0, 5.0), v(4.0, 0.0, 0.0), v(0.0, 0.0, -4.0), 4),
+    ];
+    Scene {
+        name: "The Next Week's quads",
+        world,
+        lights: Vec::new(),
+        materials,
+        background: v(0.70, 0.80, 1.00),
+        area_lights: false,
+        camera: Camera::new(v(0.0, 0.0, 9.0), DVec3::ZERO, 80.0),
         width,
         samples,
         depth: 50,
