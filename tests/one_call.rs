@@ -251,3 +251,43 @@ fn a_constant_medium_scatters_at_its_mean_free_path_in_every_container() {
         );
     }
 }
+
+/// Where objects that implement `hit` alone (their records made during the search) tie at
+/// exactly the same `t`, the container reports the first object's record, as a loop does:
+/// a later one that ties and loses does not replace the winner's kept record, in lists,
+/// trees and both nested. (Fails where a list or a `Bvh` keeps one place for both.)
+#[test]
+fn a_made_record_that_ties_does_not_replace_the_winners() {
+    // Coincident squares at z = 0, told apart by their materials; each asked through `hit`.
+    let square = |m: u32| -> Box<dyn Hittable> {
+        Box::new(Counting {
+            inner: Quad::new(DVec3::new(-1.0, -1.0, 0.0), DVec3::X * 2.0, DVec3::Y * 2.0)
+                .unwrap()
+                .with_material(MaterialId(m)),
+            calls: Arc::new(AtomicUsize::new(0)),
+        })
+    };
+    let ray = Ray::new(DVec3::new(0.1, 0.2, 5.0), DVec3::NEG_Z);
+    for n in 2..6u32 {
+        let list: Vec<Box<dyn Hittable>> = (0..n).map(square).collect();
+        let bvh = Bvh::new((0..n).map(square).collect());
+        let nested: Vec<Box<dyn Hittable>> = vec![
+            Box::new(Bvh::new((0..n).map(square).collect())) as Box<dyn Hittable>,
+            Box::new((0..n).map(|m| square(m + n)).collect::<Vec<_>>()),
+        ];
+        for (name, container) in [
+            ("list", &list as &dyn Hittable),
+            ("bvh", &bvh),
+            ("list of a bvh and a list", &nested),
+        ] {
+            let hit = container.hit(&ray, Interval::FORWARD).unwrap();
+            assert_eq!((hit.t, hit.material), (5.0, MaterialId(0)), "{name}, {n}");
+            let mut made = Made::new();
+            let found = container.find(&ray, Interval::FORWARD, &mut made).unwrap();
+            assert_eq!(
+                made.record(container, &ray, Interval::FORWARD, &found),
+                Some(hit)
+            );
+        }
+    }
+}
