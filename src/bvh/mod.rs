@@ -301,7 +301,7 @@ impl<T: Hittable> Bvh<T> {
         // sees that quads and meshes never fill them, and drops them; the winner's record
         // leaves it once. (Zeroed by the caller on every query, they made a
         // `Bvh<Quad<Triangle>>`'s primary rays 4% to 7% slower.)
-        let mut made = [Made::new(), Made::new()];
+        let (mut made, mut free) = ([Made::new(), Made::new()], 0);
         let mut closest: Option<(usize, usize, Found)> = None;
         let mut t_max = ray_t.max;
         let mut tests = 0u32;
@@ -317,15 +317,15 @@ impl<T: Hittable> Bvh<T> {
                 {
                     let index = index as usize;
                     tests += 1;
-                    // Candidates write `made[0]`, and a winner's record moves to
-                    // `made[1]`, so that one that ties and loses does not replace it (as
-                    // in a list, whose two places take turns).
+                    // Candidates write the place that does not hold a made winner's
+                    // record, so that one that ties and loses does not replace it (the
+                    // two take turns, as in a list).
                     if let Some(found) =
-                        object.find(ray, Interval::new(ray_t.min, *t_max), &mut made[0])
+                        object.find(ray, Interval::new(ray_t.min, *t_max), &mut made[free])
                         && (found.t < *t_max || closest.is_none_or(|(best, _, _)| index < best))
                     {
                         if found.is_made() {
-                            made.swap(0, 1);
+                            free ^= 1;
                         }
                         *t_max = found.t;
                         closest = Some((index, first + k, found));
@@ -338,7 +338,7 @@ impl<T: Hittable> Bvh<T> {
         if let Some((_, _, found)) = closest
             && found.is_made()
         {
-            *kept = Some(*made[1].kept_mut());
+            *kept = Some(*made[free ^ 1].kept_mut());
         }
         closest
     }

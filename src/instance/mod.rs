@@ -38,10 +38,7 @@ pub(crate) fn found_in_world(
     let t = settle(bbox, ray, ray_t, found.t)?;
     if found.is_made() {
         let local = made.kept_mut();
-        *local = HitRecord {
-            t,
-            ..to_world(*local)
-        };
+        *local = at_t(t, to_world(*local));
         let mut found = found;
         found.t = t;
         return Some(found);
@@ -49,9 +46,22 @@ pub(crate) fn found_in_world(
     if t == found.t {
         return Some(found);
     }
-    let local = record(&found)?;
-    Some(made.keep(HitRecord {
-        t,
-        ..to_world(local)
-    }))
+    Some(made.keep(at_t(t, to_world(record(&found)?))))
+}
+
+/// The record of a crossing that [`found_in_world`] returned and did not make: the
+/// object's own (`record`) moved to the world, at the crossing's `t`.
+#[inline]
+pub(crate) fn record_in_world(
+    found: &Found,
+    record: impl FnOnce(&Found) -> Option<HitRecord>,
+    to_world: impl FnOnce(HitRecord) -> HitRecord,
+) -> Option<HitRecord> {
+    Some(at_t(found.t, to_world(record(found)?)))
+}
+
+/// `record` at the instance's `t` (moving the ray to the object and back rounds it).
+#[inline(always)]
+fn at_t(t: f64, record: HitRecord) -> HitRecord {
+    HitRecord { t, ..record }
 }

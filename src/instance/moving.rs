@@ -146,11 +146,11 @@ impl<T: Hittable> Hittable for Moving<T> {
     #[inline]
     fn record(&self, ray: &Ray, ray_t: Interval, found: &Found) -> Option<HitRecord> {
         let offset = self.offset_at(ray.time);
-        let local = self.object.record(&back_by(ray, offset), ray_t, found)?;
-        Some(HitRecord {
-            t: found.t,
-            ..moved(local, offset)
-        })
+        instance::record_in_world(
+            found,
+            |f| self.object.record(&back_by(ray, offset), ray_t, f),
+            |h| moved(h, offset),
+        )
     }
 
     #[inline]

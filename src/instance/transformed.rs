@@ -304,11 +304,11 @@ impl<T: Hittable> Hittable for Transformed<T> {
 
     #[inline]
     fn record(&self, ray: &Ray, ray_t: Interval, found: &Found) -> Option<HitRecord> {
-        let local = self.object.record(&self.ray_to_object(ray), ray_t, found)?;
-        Some(HitRecord {
-            t: found.t,
-            ..self.hit_to_world(local)
-        })
+        instance::record_in_world(
+            found,
+            |f| self.object.record(&self.ray_to_object(ray), ray_t, f),
+            |h| self.hit_to_world(h),
+        )
     }
 
     #[inline]

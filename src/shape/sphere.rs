@@ -154,6 +154,32 @@ impl Sphere {
 }
 
 impl Sphere {
+    /// [`Hittable::find`]'s crossing, which `hit` records without a [`Made`] (it never
+    /// makes one).
+    fn crossing(&self, ray: &Ray, ray_t: Interval) -> Option<Found> {
+        if !ray.is_valid() {
+            return None;
+        }
+        let (near, far, closest, half_chord) = self.solve(ray)?;
+        // Each root kept in the box's span along the whole ray (so that a Bvh finds what a
+        // loop finds), then the first in range; a root past f64's range (along a direction
+        // of extreme length) is no hit.
+        // (The far root is clamped only where the near one is out of range: both miss the
+        // box or neither does, since a clamp that keeps its root has the box's span hold it.)
+        let (t, along) = match self.clamp(ray, near)? {
+            Some(near) if ray_t.contains(near) => (near, -half_chord),
+            _ => match self.clamp(ray, far)? {
+                Some(far) if ray_t.contains(far) => (far, half_chord),
+                _ => return None,
+            },
+        };
+        // The vector comes from the closest point and the half chord, not from `o + t d`,
+        // which cancels to nothing for a ray from far away. Finite and not zero, it has a
+        // direction.
+        let outward = closest + along;
+        (outward.is_finite() && outward != DVec3::ZERO).then(|| Found::new(t, outward, 0))
+    }
+
     /// A root kept in the box's span along the whole ray; `Some(None)` for a root past
     /// f64's range, `None` where the ray misses the box. (Inlined always: as a closure it
     /// was a call of its own, a fifth of the search's instructions in the port.)
@@ -178,33 +204,14 @@ impl Sphere {
 impl Hittable for Sphere {
     #[inline]
     fn hit(&self, ray: &Ray, ray_t: Interval) -> Option<HitRecord> {
-        self.record(ray, ray_t, &self.find(ray, ray_t, &mut Made::new())?)
+        self.record(ray, ray_t, &self.crossing(ray, ray_t)?)
     }
 
     /// In `coords`, the vector from the centre to the hit, before it is made unit length:
     /// the point, normal and `uv` (an `acos` and an `atan2`) are made for the winner alone.
+    #[inline]
     fn find(&self, ray: &Ray, ray_t: Interval, _: &mut Made) -> Option<Found> {
-        if !ray.is_valid() {
-            return None;
-        }
-        let (near, far, closest, half_chord) = self.solve(ray)?;
-        // Each root kept in the box's span along the whole ray (so that a Bvh finds what a
-        // loop finds), then the first in range; a root past f64's range (along a direction
-        // of extreme length) is no hit.
-        // (The far root is clamped only where the near one is out of range: both miss the
-        // box or neither does, since a clamp that keeps its root has the box's span hold it.)
-        let (t, along) = match self.clamp(ray, near)? {
-            Some(near) if ray_t.contains(near) => (near, -half_chord),
-            _ => match self.clamp(ray, far)? {
-                Some(far) if ray_t.contains(far) => (far, half_chord),
-                _ => return None,
-            },
-        };
-        // The vector comes from the closest point and the half chord, not from `o + t d`,
-        // which cancels to nothing for a ray from far away. Finite and not zero, it has a
-        // direction.
-        let outward = closest + along;
-        (outward.is_finite() && outward != DVec3::ZERO).then(|| Found::new(t, outward, 0))
+        self.crossing(ray, ray_t)
     }
 
     #[inline]
