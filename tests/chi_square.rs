@@ -3,7 +3,7 @@
 //! `PdfHittable::sample_direction` makes from uniform points of `[0, 1)^2` are distributed
 //! over solid angle as `PdfHittable::pdf_value` says. It covers rectangles sampled by solid
 //! angle and by area, skewed parallelograms, triangles, disks, rings, spheres, a mixture of
-//! lights, a light tree and a moved light, from near, far, grazing, behind and inside; a negative control
+//! lights, a light tree, a moved light and lights under scales, shears and mirrors, from near, far, grazing, behind and inside; a negative control
 //! shows that it catches a sampler that is off by a little.
 //!
 //! For one light and one origin: every direction toward the light lies in the cone around
@@ -17,7 +17,7 @@ mod support;
 use std::f64::consts::TAU;
 use std::ops::RangeInclusive;
 
-use hitkit::glam::{DQuat, DVec2, DVec3};
+use hitkit::glam::{DAffine3, DMat3, DQuat, DVec2, DVec3};
 use hitkit::{
     Aabb, Disk, Emission, HitRecord, Hittable, Interval, LightTree, Mixture, PdfHittable, Quad,
     Ray, Ring, Sampling, ShadingContext, Sphere, Transformed, Triangle,
@@ -621,6 +621,76 @@ fn triangles_disks_and_rings_draw_what_their_density_says() {
 #[test]
 fn spheres_draw_what_their_density_says_from_near_far_and_inside() {
     assert_samplers_follow_their_densities(spheres(), 400);
+}
+
+/// Lights under affine maps (`Transformed::affine`): the object is sampled in its own
+/// space, and its density carried to the world by the Jacobian between the spheres of
+/// directions; wrong by a power of the scale, or with the scale on the wrong side, these
+/// fail by orders of magnitude.
+fn affine_lights() -> Vec<Case> {
+    let turn = DMat3::from_quat(DQuat::from_axis_angle(
+        DVec3::new(1.0, -2.0, 0.5).normalize(),
+        0.7,
+    ));
+    let other = DMat3::from_quat(DQuat::from_axis_angle(
+        DVec3::new(0.2, 0.4, -1.0).normalize(),
+        2.1,
+    ));
+    let map = |scales: DVec3, at: DVec3| {
+        DAffine3::from_mat3_translation(turn * DMat3::from_diagonal(scales) * other, at)
+    };
+    let at = DVec3::new(-3.0, 5.0, 2.5);
+    // A rectangle stretched 8:1 along a skewed pair of axes (a shear), from over it.
+    let stretched = map(DVec3::new(2.0, 0.25, 1.0), at);
+    let rectangle = Transformed::affine(Quad::new(Q, U, V).unwrap(), stretched).unwrap();
+    let over = stretched.transform_point3(Q + 0.5 * (U + V) + 0.4 * normal());
+    // A ball stretched into an ellipsoid 1:4:10 and a mirrored one, from near, far and
+    // inside.
+    let ball = || Sphere::new(DVec3::ZERO, 1.0).unwrap();
+    let ellipsoid = map(DVec3::new(0.3, 1.2, 3.0), at);
+    let mirrored = map(DVec3::new(-0.5, 1.5, 0.8), at);
+    let out = DVec3::new(0.3, 0.9, -0.4).normalize();
+    // A disk mirrored and flattened, seen at a slant.
+    let disk = Quad::with_interior(Q, U, V, Disk).unwrap();
+    let flattened = map(DVec3::new(1.0, -0.2, 1.5), at);
+    let slant = flattened.transform_point3(Q + 0.3 * U + 0.5 * normal());
+    vec![
+        case(
+            "rectangle stretched 8:1 and sheared, from over it",
+            rectangle,
+            over,
+        ),
+        case(
+            "ellipsoid 1:4:10, near",
+            Transformed::affine(ball(), ellipsoid).unwrap(),
+            ellipsoid.transform_point3(1.2 * out),
+        ),
+        case(
+            "ellipsoid 1:4:10, far",
+            Transformed::affine(ball(), ellipsoid).unwrap(),
+            ellipsoid.transform_point3(-40.0 * out),
+        ),
+        case(
+            "ellipsoid 1:4:10, from inside",
+            Transformed::affine(ball(), ellipsoid).unwrap(),
+            ellipsoid.transform_point3(0.5 * out),
+        ),
+        case(
+            "mirrored ellipsoid, near",
+            Transformed::affine(ball(), mirrored).unwrap(),
+            mirrored.transform_point3(1.5 * out),
+        ),
+        case(
+            "disk mirrored and flattened, at a slant",
+            Transformed::affine(disk, flattened).unwrap(),
+            slant,
+        ),
+    ]
+}
+
+#[test]
+fn lights_under_scales_shears_and_mirrors_draw_what_their_density_says() {
+    assert_samplers_follow_their_densities(affine_lights(), 650);
 }
 
 #[test]

@@ -2,9 +2,11 @@
 //! two-step search through an instance, whose object finds its crossing along the ray
 //! moved into the object's frame and reports it along the world ray.
 
+mod frame;
 mod moving;
 mod transformed;
 
+pub use frame::{Affine, Frame, Rigid};
 pub use moving::Moving;
 pub use transformed::Transformed;
 

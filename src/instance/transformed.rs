@@ -1,26 +1,27 @@
-//! Rigid motions of any hittable: the book's `rotate_y` and `translate` instances.
+//! Instances of any hittable: the book's `rotate_y` and `translate`, and any invertible
+//! affine map (scales, shears, mirrors).
 
-use glam::{BVec3, DMat3, DQuat, DVec2, DVec3, DVec4};
+use glam::{BVec3, DAffine3, DMat3, DQuat, DVec2, DVec3, DVec4};
 
+use super::frame::{Affine, Frame, Rigid};
 use crate::instance;
 use crate::light::{reaching, toward_middle};
 use crate::math::{direction_scale, gamma, ordinary, sin_cos};
 use crate::{Aabb, Found, GeometryError, HitRecord, Hittable, Interval, Made, PdfHittable, Ray};
 
-/// `object` moved rigidly: rotated about the origin, then translated. Rays are taken into
-/// the object's space (`t` is unchanged by a rigid motion), hit there, and the hit comes
-/// back; nothing about the object is copied or rebuilt.
+/// `object` moved: rotated about the origin (or any invertible linear map, see
+/// [`Transformed::affine`]), then translated. Rays are taken into the object's space (`t`
+/// is the same in both), hit there, and the hit comes back; nothing about the object is
+/// copied or rebuilt.
 ///
-/// Solid-angle densities do not change under a rigid motion either, so a transformed
-/// [`PdfHittable`] stays one.
+/// A transformed [`PdfHittable`] stays one, its densities carried to the world (by a
+/// rigid motion, unchanged).
 ///
-/// **No scale.** Build a scaled copy at its size instead (a [`Sphere`](crate::Sphere) of
-/// another radius, a [`Quad`](crate::Quad) of longer edges, a
-/// [`TriangleMesh`](crate::TriangleMesh) of scaled vertices, which a refit makes in
-/// place): a scale that is not a power of two rounds every coordinate it carries between
-/// the spaces, and that rounding, grown by the scale, would have to join every error bound
-/// the object states in its own space (its hit points', its tolerance), on top of the
-/// rotation's; built at its size, the object states its bounds for the size it has.
+/// **Scales.** `Transformed<T>` is rigid ([`Rigid`]): exact where a rigid motion is (a
+/// turn about y leaves y alone; quarter turns are exact), and a rotation changes no `t`,
+/// length or density. [`Transformed::affine`] and [`Transformed::scale`] give a
+/// `Transformed<T, Affine>` under any invertible affine map, whose bounds grow by the
+/// map's rounding both ways (see there); the rigid one does not pay for that.
 ///
 /// ```
 /// use hitkit::glam::DVec3;
@@ -40,12 +41,10 @@ use crate::{Aabb, Found, GeometryError, HitRecord, Hittable, Interval, Made, Pdf
 /// # }
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Transformed<T> {
+pub struct Transformed<T, F = Rigid> {
     object: T,
-    /// Object to world.
-    rotation: DMat3,
-    /// World to object: the transpose, the inverse of a rotation.
-    inverse: DMat3,
+    /// The linear part, object to world and back.
+    frame: F,
     translation: DVec3,
     bbox: Aabb,
     /// Whether the box reaches near f64's end ([`Aabb::near_overflow`]), where moving a hit
@@ -70,7 +69,7 @@ impl<T: Hittable> Transformed<T> {
         }
         // Scaled first, so that the length neither overflows nor underflows.
         let unit = (rotation / largest).normalize();
-        Self::from_matrix(object, DMat3::from_quat(unit), translation)
+        Self::from_frame(object, Rigid::new(DMat3::from_quat(unit)), translation)
     }
 
     /// `object` rotated by `degrees` about the y axis (from z toward x, as the book's
@@ -97,7 +96,7 @@ impl<T: Hittable> Transformed<T> {
             DVec3::Y,
             DVec3::new(sin, 0.0, cos),
         );
-        Self::from_matrix(object, rotation, DVec3::ZERO)
+        Self::from_frame(object, Rigid::new(rotation), DVec3::ZERO)
     }
 
     /// `object` moved by `offset`.
@@ -105,25 +104,87 @@ impl<T: Hittable> Transformed<T> {
     /// # Errors
     /// [`GeometryError::NonFinite`] for a NaN or infinite offset.
     pub fn translate(object: T, offset: DVec3) -> Result<Self, GeometryError> {
-        Self::from_matrix(object, DMat3::IDENTITY, offset)
+        Self::from_frame(object, Rigid::new(DMat3::IDENTITY), offset)
+    }
+}
+
+impl<T: Hittable> Transformed<T, Affine> {
+    /// `object` under the affine map `transform` (object to world): its linear part any
+    /// invertible matrix (scales, non-uniform ones too, shears, mirrors), then its
+    /// translation. The object is not copied: a thousand instances of one
+    /// `Arc<TriangleMesh>` at a thousand sizes hold its faces once.
+    ///
+    /// What the contract's bounds become: a hit's `point_error` is the object's carried by
+    /// `|M|` plus the rounding of the map both ways (a few ulps of the point and the
+    /// translation, times `|M| |M^-1|` for the way back), so a scale that is not a power
+    /// of two adds a few ulps, and a strongly non-uniform one (a condition number `k`)
+    /// about `k` ulps; powers of two and quarter turns add nothing but the sums' rounding.
+    /// Densities over solid angle are the object's times the Jacobian between the spheres
+    /// of directions.
+    ///
+    /// ```
+    /// use hitkit::glam::{DAffine3, DQuat, DVec3};
+    /// use hitkit::{Hittable, Interval, Ray, Sphere, Transformed};
+    ///
+    /// # fn main() -> Result<(), hitkit::GeometryError> {
+    /// // A unit ball stretched into an ellipsoid 4 wide, 1 tall and 1 deep, then moved.
+    /// let map = DAffine3::from_scale_rotation_translation(
+    ///     DVec3::new(2.0, 0.5, 0.5),
+    ///     DQuat::IDENTITY,
+    ///     DVec3::new(0.0, 0.0, -10.0),
+    /// );
+    /// let ellipsoid = Transformed::affine(Sphere::new(DVec3::ZERO, 1.0)?, map)?;
+    /// let hit = ellipsoid.hit(&Ray::new(DVec3::new(-5.0, 0.0, -10.0), DVec3::X), Interval::FORWARD).unwrap();
+    /// assert_eq!((hit.t, hit.normal), (3.0, DVec3::NEG_X));
+    /// # Ok(())
+    /// # }
+    /// ```
+    ///
+    /// # Errors
+    /// [`GeometryError::NonFinite`] for a NaN or infinite entry;
+    /// [`GeometryError::InvalidParameter`] for a singular matrix, or one so nearly singular
+    /// that its inverse cannot be computed to within a half (a condition number past about
+    /// 2^50); [`GeometryError::OutOfRange`] where the matrix's determinant or inverse over-
+    /// or underflows, or the map takes a bounded object past `f64`'s range.
+    pub fn affine(object: T, transform: DAffine3) -> Result<Self, GeometryError> {
+        if !transform.translation.is_finite() {
+            return Err(GeometryError::NonFinite {
+                what: "translation",
+            });
+        }
+        Self::from_frame(
+            object,
+            Affine::new(transform.matrix3)?,
+            transform.translation,
+        )
     }
 
-    fn from_matrix(object: T, rotation: DMat3, translation: DVec3) -> Result<Self, GeometryError> {
+    /// `object` scaled by `factors` along the axes (about the origin; negative factors
+    /// mirror it).
+    ///
+    /// # Errors
+    /// As [`Transformed::affine`]: a zero or non-finite factor is an error.
+    pub fn scale(object: T, factors: DVec3) -> Result<Self, GeometryError> {
+        Self::affine(object, DAffine3::from_scale(factors))
+    }
+}
+
+impl<T: Hittable, F: Frame> Transformed<T, F> {
+    fn from_frame(object: T, frame: F, translation: DVec3) -> Result<Self, GeometryError> {
         if !translation.is_finite() {
             return Err(GeometryError::NonFinite {
                 what: "translation",
             });
         }
         let object_box = object.bounding_box();
-        let bbox = world_box(&object_box, &rotation, translation);
+        let bbox = world_box(&object_box, &frame, translation);
         if object_box.is_bounded() && !bbox.is_bounded() {
             // Moved past f64's range.
             return Err(GeometryError::OutOfRange);
         }
         Ok(Self {
             object,
-            rotation,
-            inverse: rotation.transpose(),
+            frame,
             translation,
             near_overflow: bbox.near_overflow(),
             bbox,
@@ -132,7 +193,7 @@ impl<T: Hittable> Transformed<T> {
     }
 }
 
-impl<T> Transformed<T> {
+impl<T, F: Frame> Transformed<T, F> {
     /// The same instance, naming itself `id` in the hits that come through it
     /// ([`HitRecord::instance`]): the outermost instance with an id names the hit, so in a
     /// top-level [`Bvh`](crate::Bvh) of instances of shared meshes, the id says which
@@ -181,14 +242,7 @@ impl<T> Transformed<T> {
         &self.object
     }
 
-    /// The rotation, object to world.
-    #[inline]
-    #[must_use]
-    pub fn rotation(&self) -> DMat3 {
-        self.rotation
-    }
-
-    /// The translation, applied after the rotation.
+    /// The translation, applied after the linear part.
     #[inline]
     #[must_use]
     pub fn translation(&self) -> DVec3 {
@@ -198,55 +252,49 @@ impl<T> Transformed<T> {
     /// A world-space point in object space.
     #[inline]
     fn point_to_object(&self, p: DVec3) -> DVec3 {
-        self.inverse * (p - self.translation)
+        self.frame.to_object(p - self.translation)
     }
 
     #[inline]
     fn ray_to_object(&self, ray: &Ray) -> Ray {
         Ray::new(
             self.point_to_object(ray.origin),
-            self.inverse * ray.direction,
+            self.frame.to_object(ray.direction),
         )
         .at_time(ray.time)
     }
 
-    /// An object-space hit in world space.
-    ///
-    /// The point's error bound: the object's bound `e` is carried through the rotation as
-    /// `|R| e`, and computing `R p + t` adds its own rounding. Each coordinate of `R p + t`
-    /// is a sum of three products and `t`: every term is rounded at most 4 times (one
-    /// product, three sums), so the error is at most `gamma(4) (|R| |p| + |t|)`
-    /// componentwise (Higham 3.1). One more rounding each, `(1 + gamma(4))` on the carried
-    /// part and `gamma(5)` on the new one, covers the evaluation of the bound itself.
-    ///
-    /// And the way back: a ray spawned from the hit is moved into the object's space
-    /// again, `R^T (p - t)`, which rounds its origin by `gamma(4) |R^T| (|p| + |t|)` there,
-    /// `|R| |R^T| <= 1` (every entry, by Cauchy-Schwarz) times that in world space, so at
-    /// most `gamma(5)` of `|p| + |t|` summed over the axes on each. Without it the origin
-    /// could land back on the surface's inner side, and the object find the surface the
-    /// ray leaves (the contract's clause 5).
+    /// An object-space hit in world space (its bounds: [`Frame::hit_to_world`]).
     #[inline]
     fn hit_to_world(&self, hit: HitRecord) -> HitRecord {
-        let abs = self.rotation.abs();
-        let carried = (1.0 + gamma(4)) * (abs * hit.point_error);
-        let rounding = gamma(5) * (abs * hit.point.abs() + self.translation.abs());
-        let point = self.rotation * hit.point + self.translation;
-        let back = gamma(5) * (point.abs() + self.translation.abs()).element_sum();
         HitRecord {
-            point,
-            point_error: carried + rounding + DVec3::splat(back),
-            // Unit length to within a few ulps: the rotation is orthonormal to rounding.
-            normal: self.rotation * hit.normal,
-            shading_normal: self.rotation * hit.shading_normal,
             instance: self.instance.or(hit.instance),
-            ..hit
+            ..self.frame.hit_to_world(hit, self.translation)
         }
     }
 }
 
+impl<T> Transformed<T> {
+    /// The rotation, object to world.
+    #[inline]
+    #[must_use]
+    pub fn rotation(&self) -> DMat3 {
+        self.frame.rotation
+    }
+}
+
+impl<T> Transformed<T, Affine> {
+    /// The linear part, object to world: the matrix given, as given.
+    #[inline]
+    #[must_use]
+    pub fn matrix(&self) -> DMat3 {
+        self.frame.matrix()
+    }
+}
+
 /// The box of the 8 moved corners of `bbox`, grown by the rounding of moving them (as in
-/// `hit_to_world`): it holds the exact moved box, so the moved object.
-fn world_box(bbox: &Aabb, rotation: &DMat3, translation: DVec3) -> Aabb {
+/// [`Frame::hit_to_world`]): it holds the exact moved box, so the moved object.
+fn world_box(bbox: &Aabb, frame: &impl Frame, translation: DVec3) -> Aabb {
     if bbox.is_empty() {
         return Aabb::EMPTY;
     }
@@ -256,13 +304,13 @@ fn world_box(bbox: &Aabb, rotation: &DMat3, translation: DVec3) -> Aabb {
     let (lo, hi) = (bbox.min(), bbox.max());
     let corners: [DVec3; 8] = core::array::from_fn(|i| {
         let pick = BVec3::new(i & 1 != 0, i & 2 != 0, i & 4 != 0);
-        *rotation * DVec3::select(pick, hi, lo) + translation
+        frame.to_world(DVec3::select(pick, hi, lo)) + translation
     });
     let magnitude = lo.abs().max(hi.abs());
-    Aabb::from_points(&corners).grown(gamma(5) * (rotation.abs() * magnitude + translation.abs()))
+    Aabb::from_points(&corners).grown(gamma(5) * (frame.abs() * magnitude + translation.abs()))
 }
 
-impl<T: Hittable> Hittable for Transformed<T> {
+impl<T: Hittable, F: Frame> Hittable for Transformed<T, F> {
     #[inline]
     fn hit(&self, ray: &Ray, ray_t: Interval) -> Option<HitRecord> {
         if !ordinary(ray.direction) {
@@ -325,7 +373,7 @@ impl<T: Hittable> Hittable for Transformed<T> {
     }
 }
 
-impl<T: Hittable> Transformed<T> {
+impl<T: Hittable, F: Frame> Transformed<T, F> {
     /// [`Hittable::hit`] for a direction of extreme length: along the same ray with the
     /// direction scaled (exactly) to an ordinary one before it is turned, which would
     /// otherwise round its components into the subnormals or past `f64::MAX`; `None` for a
@@ -341,18 +389,22 @@ impl<T: Hittable> Transformed<T> {
     }
 }
 
-impl<T: PdfHittable> PdfHittable for Transformed<T> {
-    /// The object's density for the same direction in its own space: densities over solid
-    /// angle are unchanged by a rigid motion.
+impl<T: PdfHittable, F: Frame> PdfHittable for Transformed<T, F> {
+    /// The object's density for the same direction in its own space: unchanged by a rigid
+    /// motion; under an [`Affine`] one, times the Jacobian between the two spheres of
+    /// directions.
     #[inline]
     fn pdf_value(&self, origin: DVec3, direction: DVec3) -> f64 {
         // Scaled (exactly) to an ordinary length before turning, as rays are.
         let direction = direction * direction_scale(direction);
-        self.object
-            .pdf_value(self.point_to_object(origin), self.inverse * direction)
+        let density = self.object.pdf_value(
+            self.point_to_object(origin),
+            self.frame.to_object(direction),
+        );
+        self.frame.density_to_world(density, direction)
     }
 
-    /// The object's sample, turned. Turning rounds: where that takes a direction on the
+    /// The object's sample, in world space. Moving it rounds: where that takes a direction on the
     /// object's edge just past it, the object is sampled again from `u` moved a little
     /// toward the middle of the square, so that the density is positive (the contract's
     /// clause 6).
@@ -360,29 +412,11 @@ impl<T: PdfHittable> PdfHittable for Transformed<T> {
     fn sample_direction(&self, origin: DVec3, u: DVec2) -> DVec3 {
         let local = self.point_to_object(origin);
         reaching(
-            |k| self.turned(self.object.sample_direction(local, toward_middle(u, k))),
+            |k| {
+                self.frame
+                    .direction_to_world(self.object.sample_direction(local, toward_middle(u, k)))
+            },
             |d| self.pdf_value(origin, d) > 0.0,
         )
-    }
-}
-
-impl<T> Transformed<T> {
-    /// A direction of the object's space in world space, without overflow where that is
-    /// possible; the zero vector where it is not.
-    #[inline]
-    fn turned(&self, local: DVec3) -> DVec3 {
-        let direction = self.rotation * local;
-        if direction.is_finite() {
-            direction
-        } else {
-            // A rotation can lengthen a component by up to sqrt(3): a quarter of a finite
-            // direction turns without overflow, and points the same way.
-            let quarter = self.rotation * (0.25 * local);
-            if quarter.is_finite() {
-                quarter
-            } else {
-                DVec3::ZERO
-            }
-        }
     }
 }
