@@ -189,7 +189,7 @@ pub use light::RandomDirection09;
 pub use light::{
     Emission, LightSample, LightTree, Mixture, SampleInterior, Sampling, ShadingContext,
 };
-pub use mesh::{Face, TriangleMesh};
+pub use mesh::{Candidate, Face, Filtered, TriangleMesh};
 pub use ray::Ray;
 pub use record::{HitRecord, MaterialId};
 pub use shape::{

@@ -28,7 +28,7 @@ pub(super) struct Sheared {
 
 /// A face the ray crosses: `t`, a bound on its error, and what gives the barycentric
 /// weights of its three corners.
-#[derive(Clone, Copy)]
+#[derive(Clone, Copy, Debug)]
 pub(super) struct Crossing {
     pub(super) t: f64,
     /// The exact crossing lies within `t ± t_error` ([`t_error`]); infinite where rounding

@@ -2,15 +2,17 @@
 //! watertight by construction.
 
 // By operation: build, update (refit), query (the tree's walks), intersect (the face
-// test), sample (a mesh as a light), face (one face as a shape).
+// test), sample (a mesh as a light), face (one face as a shape), filter (cut-outs).
 mod build;
 mod face;
+mod filter;
 mod intersect;
 mod query;
 mod sample;
 mod update;
 
 pub use face::Face;
+pub use filter::{Candidate, Filtered};
 
 use build::{LARGEST_UNCHECKED, add_area, area_of, corners, cross, face_area, face_box, reorder};
 
@@ -229,7 +231,7 @@ impl Hittable for TriangleMesh {
     fn hit(&self, ray: &Ray, ray_t: Interval) -> Option<HitRecord> {
         let (position, crossing) = dispatch(
             #[inline(always)]
-            || self.closest(ray, ray_t, &mut ()),
+            || self.closest(ray, ray_t, &mut (), |_, _| true),
         )?;
         self.record_at(ray, position, crossing.t, crossing.barycentric())
     }
@@ -238,7 +240,7 @@ impl Hittable for TriangleMesh {
     fn find(&self, ray: &Ray, ray_t: Interval, _: &mut Made) -> Option<Found> {
         let (position, crossing) = dispatch(
             #[inline(always)]
-            || self.closest(ray, ray_t, &mut ()),
+            || self.closest(ray, ray_t, &mut (), |_, _| true),
         )?;
         Some(Found::new(
             crossing.t,
@@ -264,7 +266,7 @@ impl Hittable for TriangleMesh {
     fn occluded(&self, ray: &Ray, ray_t: Interval) -> bool {
         dispatch(
             #[inline(always)]
-            || self.any(ray, ray_t, &mut ()),
+            || self.any(ray, ray_t, &mut (), |_, _| true),
         )
     }
 }

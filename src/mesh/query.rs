@@ -85,12 +85,16 @@ impl TriangleMesh {
     /// [`Bvh::hit_with_index`](crate::Bvh::hit_with_index): of faces hit at exactly the
     /// same `t`, the one the caller numbered first. (Inlined always, here and below, so
     /// that [`dispatch`](crate::simd::dispatch) compiles the walk for AVX2.)
+    ///
+    /// A crossing counts only where `accept` takes it (a filter's say, asked once per face
+    /// the walk crosses; always yes, and compiled away, for the mesh's own queries).
     #[inline(always)]
     pub(super) fn closest(
         &self,
         ray: &Ray,
         ray_t: Interval,
         tally: &mut impl Tally,
+        accept: impl Fn(usize, &Crossing) -> bool,
     ) -> Option<(usize, Crossing)> {
         let sheared = Sheared::new(ray)?;
         let mut box_ray = None;
@@ -117,6 +121,7 @@ impl TriangleMesh {
                         position,
                     ) && (c.t < *t_max
                         || closest.is_none_or(|(best, _)| order[position] < order[best]))
+                        && accept(position, &c)
                     {
                         *t_max = c.t;
                         closest = Some((position, c));
@@ -129,9 +134,15 @@ impl TriangleMesh {
         closest
     }
 
-    /// Whether any face crosses `ray` within `ray_t`.
+    /// Whether any face crosses `ray` within `ray_t` (and `accept` takes it).
     #[inline(always)]
-    pub(super) fn any(&self, ray: &Ray, ray_t: Interval, tally: &mut impl Tally) -> bool {
+    pub(super) fn any(
+        &self,
+        ray: &Ray,
+        ray_t: Interval,
+        tally: &mut impl Tally,
+        accept: impl Fn(usize, &Crossing) -> bool,
+    ) -> bool {
         let Some(sheared) = Sheared::new(ray) else {
             return false;
         };
@@ -149,7 +160,7 @@ impl TriangleMesh {
                 found = (first..first + count).any(|p| {
                     tests += 1;
                     self.cross::<true>(&sheared, &mut box_ray, ray, ray_t, p)
-                        .is_some()
+                        .is_some_and(|c| accept(p, &c))
                 });
                 found
             },
@@ -176,7 +187,7 @@ impl TriangleMesh {
     #[must_use]
     pub fn hit_visits(&self, ray: &Ray, ray_t: Interval) -> Visits {
         let mut visits = Visits::default();
-        self.closest(ray, ray_t, &mut visits);
+        self.closest(ray, ray_t, &mut visits, |_, _| true);
         visits
     }
 
@@ -185,8 +196,20 @@ impl TriangleMesh {
     #[must_use]
     pub fn occluded_visits(&self, ray: &Ray, ray_t: Interval) -> Visits {
         let mut visits = Visits::default();
-        self.any(ray, ray_t, &mut visits);
+        self.any(ray, ray_t, &mut visits, |_, _| true);
         visits
+    }
+
+    /// The texture coordinates of the face at `position` at barycentrics `b`: interpolated
+    /// where the mesh has them, `(b1, b2)` where it does not.
+    #[inline]
+    pub(super) fn uv_at(&self, position: usize, b: DVec3) -> DVec2 {
+        if self.uvs.is_empty() {
+            DVec2::new(b.y, b.z)
+        } else {
+            let [a, c, d] = self.triangles[position].map(|i| self.uvs[i as usize]);
+            b.x * a + b.y * c + b.z * d
+        }
     }
 
     /// The hit record of `crossing` of the face at `position`.
@@ -201,12 +224,7 @@ impl TriangleMesh {
         let [p0, p1, p2] = self.corners_at(position);
         let (point, point_error) = self.point(position, b)?;
         let (normal, _) = unit_and_length((p1 - p0).cross(p2 - p0));
-        let uv = if self.uvs.is_empty() {
-            DVec2::new(b.y, b.z)
-        } else {
-            let [a, c, d] = face.map(|i| self.uvs[i as usize]);
-            b.x * a + b.y * c + b.z * d
-        };
+        let uv = self.uv_at(position, b);
         let mut record = HitRecord::new(ray, t, point, normal)
             .with_point_error(point_error)
             .with_uv(uv)
@@ -330,28 +348,28 @@ mod tests {
                 }
                 for ray in &rays {
                     for ray_t in [Interval::FORWARD, Interval::new(0.0, 1.0), Interval::UNIVERSE] {
-                        let portable = mesh.closest(ray, ray_t, &mut ());
-                        let fast = dispatch(#[inline(always)] || mesh.closest(ray, ray_t, &mut ()));
+                        let portable = mesh.closest(ray, ray_t, &mut (), |_, _| true);
+                        let fast = dispatch(#[inline(always)] || mesh.closest(ray, ray_t, &mut (), |_, _| true));
                         let key = |c: Option<(usize, super::Crossing)>| {
                             c.map(|(p, c)| (p, c.t.to_bits(), c.barycentric().to_array().map(f64::to_bits)))
                         };
                         prop_assert_eq!(key(portable), key(fast));
                         prop_assert_eq!(
-                            mesh.any(ray, ray_t, &mut ()),
-                            dispatch(#[inline(always)] || mesh.any(ray, ray_t, &mut ()))
+                            mesh.any(ray, ray_t, &mut (), |_, _| true),
+                            dispatch(#[inline(always)] || mesh.any(ray, ray_t, &mut (), |_, _| true))
                         );
                     }
                     // Any hit answers as the closest hit with the range ending, or
                     // starting, a few ulps either side of the closest crossing, where the
                     // any-hit query's shortcut past the box clamp stops applying.
-                    if let Some((_, c)) = mesh.closest(ray, Interval::FORWARD, &mut ()) {
+                    if let Some((_, c)) = mesh.closest(ray, Interval::FORWARD, &mut (), |_, _| true) {
                         for ulps in -3i64..=3 {
                             let end = f64::from_bits((c.t.to_bits() as i64 + ulps) as u64);
                             for ray_t in [Interval::new(0.0, end), Interval::new(end, f64::INFINITY)] {
-                                let closest = mesh.closest(ray, ray_t, &mut ()).is_some();
-                                prop_assert_eq!(mesh.any(ray, ray_t, &mut ()), closest);
+                                let closest = mesh.closest(ray, ray_t, &mut (), |_, _| true).is_some();
+                                prop_assert_eq!(mesh.any(ray, ray_t, &mut (), |_, _| true), closest);
                                 prop_assert_eq!(
-                                    dispatch(#[inline(always)] || mesh.any(ray, ray_t, &mut ())),
+                                    dispatch(#[inline(always)] || mesh.any(ray, ray_t, &mut (), |_, _| true)),
                                     closest
                                 );
                             }

@@ -9,7 +9,9 @@ use std::time::{Duration, Instant};
 
 use hitkit::custom::Made;
 use hitkit::glam::{DVec3, UVec2};
-use hitkit::{Bvh, Hittable, Interval, Quad, Ray, Triangle, TriangleMesh, Visits};
+use hitkit::{
+    Bvh, Candidate, Filtered, Hittable, Interval, Quad, Ray, Triangle, TriangleMesh, Visits,
+};
 use obvhs::BvhBuildParams;
 use obvhs::cwbvh::CwBvh;
 use obvhs::cwbvh::builder::{build_cwbvh, build_cwbvh_from_tris};
@@ -403,6 +405,28 @@ impl Library for MeshFind {
     }
 }
 
+/// The mesh behind a filter that rejects nothing (`Filtered`), though it reads each
+/// candidate's texture coordinates as a cut-out does: what asking it costs, where nothing
+/// is cut.
+struct MeshFiltered<'a, F>(Filtered<TriangleMesh, F>, &'a [usize]);
+
+impl<F: Fn(&Candidate) -> bool + Send + Sync> Library for MeshFiltered<'_, F> {
+    fn name(&self) -> String {
+        "hitkit TriangleMesh, Filtered (rejecting nothing)".into()
+    }
+    fn closest(&self, ray: &Ray) -> Hit {
+        self.0
+            .hit(ray, Interval::FORWARD)
+            .map(|h| (self.1[h.primitive.expect("a face") as usize], h.t))
+    }
+    fn occluded(&self, ray: &Ray) -> bool {
+        self.0.occluded(ray, SHADOW)
+    }
+    fn count(&self, _: &Ray, _: bool) -> Option<(u32, u32)> {
+        None
+    }
+}
+
 struct Generic(Bvh<Quad<Triangle>>);
 
 impl Library for Generic {
@@ -707,8 +731,9 @@ pub fn run(scenes: &[TriadScene], args: &Args) {
             Box::new(own),
             Box::new(Generic(Bvh::new(quads.clone()))),
             Box::new(leaf),
-            Box::new(MeshFind(mesh)),
+            Box::new(MeshFind(mesh.clone())),
         ];
+        let libs_mesh = mesh;
         // The ceiling, where it is built in (row 5).
         #[cfg(feature = "embree")]
         {
@@ -723,6 +748,10 @@ pub fn run(scenes: &[TriadScene], args: &Args) {
             libs.push(Box::new(embree));
         }
         let embree_row = (libs.len() > 5).then_some(5);
+        libs.push(Box::new(MeshFiltered(
+            Filtered::new(libs_mesh, |c: &Candidate| black_box(c.uv()).x > f64::MIN),
+            &position,
+        )));
         // Answers first (untimed), against the mesh's; then FTZ/DAZ's effect on them.
         let reference = answer(libs[0].as_ref(), &rays);
         let hits = |a: &[Hit]| a.iter().flatten().count();
