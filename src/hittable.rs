@@ -44,6 +44,15 @@ pub trait Hittable: Send + Sync {
         self.hit(ray, ray_t).is_some()
     }
 
+    /// Which rays see the object: those whose [`Ray::mask`] shares a bit with it. Every
+    /// bit for an object that does not say (all of hitkit's shapes); a
+    /// [`Masked`](crate::Masked) says. A [`Bvh`](crate::Bvh) or a list passes over an
+    /// object whose mask does not meet the ray's without asking it anything else.
+    #[inline]
+    fn mask(&self) -> u32 {
+        u32::MAX
+    }
+
     /// The closest crossing with `t` in `ray_t`, without its record: the first half of
     /// [`hit`](Hittable::hit), which a closest-hit search (a list, a [`Bvh`](crate::Bvh))
     /// calls on every candidate, building the record only for the winner with
@@ -164,6 +173,10 @@ macro_rules! forward_through {
             #[inline]
             fn record(&self, ray: &Ray, ray_t: Interval, found: &Found) -> Option<HitRecord> {
                 (**self).record(ray, ray_t, found)
+            }
+            #[inline]
+            fn mask(&self) -> u32 {
+                (**self).mask()
             }
         }
 

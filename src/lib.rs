@@ -165,6 +165,7 @@ mod instance;
 mod interval;
 mod light;
 mod list;
+mod masked;
 mod math;
 mod mesh;
 mod ray;
@@ -189,6 +190,7 @@ pub use light::RandomDirection09;
 pub use light::{
     Emission, LightSample, LightTree, Mixture, SampleInterior, Sampling, ShadingContext,
 };
+pub use masked::Masked;
 pub use mesh::{Candidate, Face, Filtered, TriangleMesh};
 pub use ray::Ray;
 pub use record::{HitRecord, MaterialId};

@@ -2,6 +2,7 @@
 
 use alloc::vec::Vec;
 
+use crate::masked::sees;
 use crate::{Aabb, Found, HitRecord, Hittable, Interval, Made, Ray};
 
 impl<T: Hittable> Hittable for [T] {
@@ -17,7 +18,8 @@ impl<T: Hittable> Hittable for [T] {
         let mut free = 0;
         for (index, object) in self.iter().enumerate() {
             let max = closest.map_or(ray_t.max, |(_, f)| f.t);
-            if let Some(f) = object.find(ray, Interval::new(ray_t.min, max), &mut made[free])
+            if sees(ray, object)
+                && let Some(f) = object.find(ray, Interval::new(ray_t.min, max), &mut made[free])
                 // Of hits at exactly the same t, the first object's stands.
                 && closest.is_none_or(|(_, c)| f.t < c.t)
             {
@@ -43,7 +45,7 @@ impl<T: Hittable> Hittable for [T] {
     }
 
     fn occluded(&self, ray: &Ray, ray_t: Interval) -> bool {
-        self.iter().any(|o| o.occluded(ray, ray_t))
+        self.iter().any(|o| sees(ray, o) && o.occluded(ray, ray_t))
     }
 }
 
@@ -53,7 +55,8 @@ fn hit_by_records<T: Hittable>(objects: &[T], ray: &Ray, ray_t: Interval) -> Opt
     let mut closest: Option<HitRecord> = None;
     for object in objects {
         let max = closest.map_or(ray_t.max, |h| h.t);
-        if let Some(h) = object.hit(ray, Interval::new(ray_t.min, max))
+        if sees(ray, object)
+            && let Some(h) = object.hit(ray, Interval::new(ray_t.min, max))
             && closest.is_none_or(|c| h.t < c.t)
         {
             closest = Some(h);

@@ -33,6 +33,17 @@ pub struct Ray {
     /// When it is sent; moving objects are where they are at this time.
     #[cfg_attr(feature = "serde", serde(default))]
     pub time: f64,
+    /// What the ray sees: an object whose [`mask`](crate::Hittable::mask) shares no bit
+    /// with it is passed over (a lamp the camera does not see, an object that casts no
+    /// shadow). Every bit set by [`Ray::new`]: every object is seen.
+    #[cfg_attr(feature = "serde", serde(default = "every_bit"))]
+    pub mask: u32,
+}
+
+/// The mask of a ray that sees everything.
+#[cfg(feature = "serde")]
+fn every_bit() -> u32 {
+    u32::MAX
 }
 
 impl Ray {
@@ -44,7 +55,34 @@ impl Ray {
             origin,
             direction,
             time: 0.0,
+            mask: u32::MAX,
         }
+    }
+
+    /// The same ray seeing only objects whose mask shares a bit with `mask` (see
+    /// [`Ray::mask`] and [`Masked`](crate::Masked)).
+    ///
+    /// ```
+    /// use hitkit::glam::DVec3;
+    /// use hitkit::{Hittable, Interval, Masked, Ray, Sphere};
+    ///
+    /// # fn main() -> Result<(), hitkit::GeometryError> {
+    /// const CAMERA: u32 = 1;
+    /// const SHADOW: u32 = 2;
+    /// // A lamp that shadow rays find but the camera does not see.
+    /// let lamp = Masked::new(Sphere::new(DVec3::new(0.0, 0.0, -5.0), 1.0)?, SHADOW);
+    /// let ray = Ray::new(DVec3::ZERO, DVec3::NEG_Z);
+    /// assert!(lamp.hit(&ray.with_mask(CAMERA), Interval::FORWARD).is_none());
+    /// assert!(lamp.occluded(&ray.with_mask(SHADOW), Interval::FORWARD));
+    /// assert!(lamp.hit(&ray, Interval::FORWARD).is_some()); // a ray sees all by default
+    /// # Ok(())
+    /// # }
+    /// ```
+    #[inline]
+    #[must_use]
+    pub const fn with_mask(mut self, mask: u32) -> Self {
+        self.mask = mask;
+        self
     }
 
     /// The same ray at `time`.

@@ -24,6 +24,7 @@ use node::Node;
 
 use glam::DVec3;
 
+use crate::masked::sees;
 use crate::simd::dispatch;
 use crate::{Aabb, Found, HitRecord, Hittable, Interval, Made, Ray};
 
@@ -316,6 +317,9 @@ impl<T: Hittable> Bvh<T> {
                     objects.iter().zip(&self.tree.order[first..]).enumerate()
                 {
                     let index = index as usize;
+                    if !sees(ray, object) {
+                        continue;
+                    }
                     tests += 1;
                     // Candidates write the place that does not hold a made winner's
                     // record, so that one that ties and loses does not replace it (the
@@ -357,6 +361,9 @@ impl<T: Hittable> Bvh<T> {
             #[inline(always)]
             |objects, _, _| {
                 found = objects.iter().any(|o| {
+                    if !sees(ray, o) {
+                        return false;
+                    }
                     tests += 1;
                     o.occluded(ray, ray_t)
                 });
@@ -375,7 +382,8 @@ impl<T: Hittable> Bvh<T> {
         self.walk::<true>(ray, ray_t, &mut t_max, &mut (), |objects, first, t_max| {
             for (object, &index) in objects.iter().zip(&self.tree.order[first..]) {
                 let index = index as usize;
-                if let Some(hit) = object.hit(ray, Interval::new(ray_t.min, *t_max))
+                if sees(ray, object)
+                    && let Some(hit) = object.hit(ray, Interval::new(ray_t.min, *t_max))
                     && (hit.t < *t_max || closest.is_none_or(|(best, _)| index < best))
                 {
                     *t_max = hit.t;

@@ -1,5 +1,5 @@
 //! `approx` 0.5 comparisons for the value types: field by field, with the tolerance
-//! applied to every float.
+//! applied to every float (and a ray's mask compared exactly).
 
 use approx::{AbsDiffEq, RelativeEq, UlpsEq};
 
@@ -7,6 +7,9 @@ use crate::{Aabb, Interval, PlaneHit, Ray};
 
 macro_rules! impl_approx {
     ($ty:ty { $($field:ident),+ }) => {
+        impl_approx!($ty { $($field),+ } exactly {});
+    };
+    ($ty:ty { $($field:ident),+ } exactly { $($exact:ident),* }) => {
         impl AbsDiffEq for $ty {
             type Epsilon = f64;
             fn default_epsilon() -> f64 {
@@ -14,6 +17,7 @@ macro_rules! impl_approx {
             }
             fn abs_diff_eq(&self, other: &Self, epsilon: f64) -> bool {
                 $(AbsDiffEq::abs_diff_eq(&self.$field, &other.$field, epsilon))&&+
+                    $(&& self.$exact == other.$exact)*
             }
         }
 
@@ -23,6 +27,7 @@ macro_rules! impl_approx {
             }
             fn relative_eq(&self, other: &Self, epsilon: f64, max_relative: f64) -> bool {
                 $(RelativeEq::relative_eq(&self.$field, &other.$field, epsilon, max_relative))&&+
+                    $(&& self.$exact == other.$exact)*
             }
         }
 
@@ -32,16 +37,13 @@ macro_rules! impl_approx {
             }
             fn ulps_eq(&self, other: &Self, epsilon: f64, max_ulps: u32) -> bool {
                 $(UlpsEq::ulps_eq(&self.$field, &other.$field, epsilon, max_ulps))&&+
+                    $(&& self.$exact == other.$exact)*
             }
         }
     };
 }
 
-impl_approx!(Ray {
-    origin,
-    direction,
-    time
-});
+impl_approx!(Ray { origin, direction, time } exactly { mask });
 impl_approx!(Interval { min, max });
 impl_approx!(Aabb { min, max });
 impl_approx!(PlaneHit { t, alpha, beta });

@@ -262,6 +262,7 @@ impl<T, F: Frame> Transformed<T, F> {
             self.frame.to_object(ray.direction),
         )
         .at_time(ray.time)
+        .with_mask(ray.mask)
     }
 
     /// An object-space hit in world space (its bounds: [`Frame::hit_to_world`]).

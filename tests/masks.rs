@@ -1,0 +1,129 @@
+//! Visibility masks: a ray sees the objects whose mask shares a bit with its own. A `Bvh`
+//! and a list answer as the loop over the objects the ray sees, in `hit` and `occluded`,
+//! passing over the others without a test; masks that meet everything change nothing; a
+//! mask reaches objects inside instances.
+
+mod support;
+
+use hitkit::glam::{DQuat, DVec3};
+use hitkit::{Bvh, Hittable, Interval, Masked, Ray, Sphere, Transformed};
+use support::SplitMix;
+
+const FORWARD: Interval = Interval::FORWARD;
+
+/// Balls in a box 20 wide, each with a mask of four random bits of eight.
+fn balls(rng: &mut SplitMix, n: usize) -> Vec<Masked<Sphere>> {
+    (0..n)
+        .map(|_| {
+            let mask = (0..4).fold(0u32, |m, _| m | 1 << (rng.next_u64() % 8));
+            let ball = Sphere::new(20.0 * (rng.vec3() - 0.5), 0.3 + rng.next_f64()).unwrap();
+            Masked::new(ball, mask)
+        })
+        .collect()
+}
+
+fn random_ray(rng: &mut SplitMix) -> Ray {
+    Ray::new(30.0 * (rng.vec3() - 0.5), rng.direction())
+}
+
+#[test]
+fn a_tree_and_a_list_answer_as_the_loop_over_what_the_ray_sees() {
+    let mut rng = SplitMix::new(21);
+    let objects = balls(&mut rng, 300);
+    let tree = Bvh::new(objects.clone());
+    let mut passed_over = 0;
+    for _ in 0..3000 {
+        let ray = random_ray(&mut rng).with_mask(1 << (rng.next_u64() % 8));
+        let seen: Vec<Sphere> = objects
+            .iter()
+            .filter(|o| o.mask() & ray.mask != 0)
+            .map(|o| *o.object())
+            .collect();
+        let expected = support::brute_force(&seen, &ray, FORWARD).map(|(_, h)| h);
+        assert_eq!(tree.hit(&ray, FORWARD), expected, "{ray:?}");
+        assert_eq!(objects.hit(&ray, FORWARD), expected, "{ray:?}");
+        assert_eq!(tree.occluded(&ray, FORWARD), expected.is_some());
+        assert_eq!(objects.occluded(&ray, FORWARD), expected.is_some());
+        let everything = support::brute_force(&objects, &ray.with_mask(u32::MAX), FORWARD);
+        passed_over += usize::from(everything.map(|(_, h)| h.t) != expected.map(|h| h.t));
+    }
+    // Masks changed the answer on many rays: the test means something.
+    assert!(passed_over > 300, "{passed_over}");
+}
+
+#[test]
+fn objects_a_ray_does_not_see_cost_it_no_test() {
+    let mut rng = SplitMix::new(22);
+    let objects = balls(&mut rng, 300);
+    let tree = Bvh::new(objects.clone());
+    let (mut nodes, mut seen_tests) = (0, 0);
+    for _ in 0..500 {
+        let ray = random_ray(&mut rng);
+        let blind = tree.hit_visits(&ray.with_mask(0), FORWARD);
+        assert_eq!(blind.tests, 0);
+        assert_eq!(tree.occluded_visits(&ray.with_mask(0), FORWARD).tests, 0);
+        nodes += blind.nodes;
+        seen_tests += tree.hit_visits(&ray, FORWARD).tests;
+    }
+    // The walk went on (masks are per object, not per node), and seeing rays test objects.
+    assert!(nodes > 0 && seen_tests > 0);
+}
+
+#[test]
+fn masks_that_meet_everything_change_nothing() {
+    let mut rng = SplitMix::new(23);
+    let objects = balls(&mut rng, 200);
+    let plain: Vec<Sphere> = objects.iter().map(|o| *o.object()).collect();
+    let (masked, unmasked) = (Bvh::new(objects.clone()), Bvh::new(plain));
+    for _ in 0..2000 {
+        let ray = random_ray(&mut rng);
+        assert_eq!(masked.hit(&ray, FORWARD), unmasked.hit(&ray, FORWARD));
+        assert_eq!(
+            masked.occluded(&ray, FORWARD),
+            unmasked.occluded(&ray, FORWARD)
+        );
+    }
+}
+
+#[test]
+fn a_mask_reaches_inside_instances_and_nested_trees() {
+    // A tree of turned instances, each of a tree of masked balls: the ray's mask passes
+    // through the instance's move into the object's space.
+    let mut rng = SplitMix::new(24);
+    let inner = std::sync::Arc::new(Bvh::new(balls(&mut rng, 40)));
+    let instances: Vec<_> = (0..10)
+        .map(|_| {
+            let turn = DQuat::from_axis_angle(rng.direction(), 6.0 * rng.next_f64());
+            Transformed::new(inner.clone(), turn, 40.0 * (rng.vec3() - 0.5)).unwrap()
+        })
+        .collect();
+    let outer = Bvh::new(instances.clone());
+    let mut differs = 0;
+    for _ in 0..2000 {
+        let ray = Ray::new(60.0 * (rng.vec3() - 0.5), rng.direction());
+        let masked = ray.with_mask(1 << (rng.next_u64() % 8));
+        let hit = outer.hit(&masked, FORWARD);
+        assert_eq!(
+            hit,
+            support::brute_force(&instances, &masked, FORWARD).map(|(_, h)| h)
+        );
+        assert_eq!(outer.occluded(&masked, FORWARD), hit.is_some());
+        differs += usize::from(hit.map(|h| h.t) != outer.hit(&ray, FORWARD).map(|h| h.t));
+    }
+    assert!(differs > 50, "{differs}");
+}
+
+#[test]
+fn a_masked_light_is_sampled_as_the_light() {
+    use hitkit::PdfHittable;
+    use hitkit::glam::DVec2;
+    let ball = Sphere::new(DVec3::new(0.0, 5.0, 0.0), 1.0).unwrap();
+    let lamp = Masked::new(ball, 0b10);
+    let u = DVec2::new(0.3, 0.7);
+    let d = lamp.sample_direction(DVec3::ZERO, u);
+    assert_eq!(d, ball.sample_direction(DVec3::ZERO, u));
+    assert_eq!(
+        lamp.pdf_value(DVec3::ZERO, d),
+        ball.pdf_value(DVec3::ZERO, d)
+    );
+}
