@@ -4,6 +4,7 @@
 #
 #   benches/ab.sh REV_A REV_B peers [peers options...]
 #       the peers comparison (benches/peers); prints each run's rows of hitkit's two trees
+#       (with --triad, each run's rows of hitkit's libraries in the speed table)
 #       (`hitkit`, the generic `Bvh`, and `hitkit TriangleMesh`)
 #   benches/ab.sh REV_A REV_B EXAMPLE [example options...]
 #       an example (quads, cornell, ...); prints each run's wall time in seconds
@@ -51,7 +52,7 @@ for round in $(seq 1 "$rounds"); do
             echo "round $round, $rev:"
             "$work/$side/target/release/hitkit-peers" \
                 --obj "$top/../shared/data/stanford-bunny.obj" "$@" 2>/dev/null |
-                grep -E '^\| [^|]+\| [0-9]+ \| hitkit( TriangleMesh)? \|' || true
+                grep -E '^\| [^|]+\| ([0-9]+ \| hitkit( TriangleMesh)? \||hitkit[^|]*\|( [0-9.]+ \|){3}$)' || true
         else
             start=$(date +%s.%N)
             "$work/$side/target/release/examples/$what" "$@" --output "$work/$what-$side.png" >/dev/null 2>&1

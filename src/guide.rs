@@ -8,6 +8,8 @@
 //! - [`lights`]: sampling lights, next-event estimation with shadow rays that need no
 //!   epsilon, many lights.
 //! - [`own_shapes`]: writing your own shape, interior or light.
+//! - [`scene_files`]: from a glTF or OBJ file to a traced scene: scaled instances,
+//!   cut-outs, visibility masks and lights (the `gltf` and `obj` features).
 
 #[doc = include_str!("guide/shapes.md")]
 pub mod shapes {}
@@ -23,3 +25,6 @@ pub mod lights {}
 
 #[doc = include_str!("guide/own_shapes.md")]
 pub mod own_shapes {}
+
+#[doc = include_str!("guide/scene_files.md")]
+pub mod scene_files {}

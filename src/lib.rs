@@ -140,6 +140,8 @@
 //! | `rand` | no | `RandomDirection`: sample a light with any `rand` 0.10 generator |
 //! | `rand09` | no | `RandomDirection09`: the same with a `rand` 0.9 generator |
 //! | `rayon` | no | `Bvh::new_parallel` and `TriangleMesh::new_parallel`: trees built on every core (the same trees); needs `std` |
+//! | `obj` | no | `load::load_obj`: an OBJ file's objects as `TriangleMesh`es with their materials' names (through `tobj`); needs `std` |
+//! | `gltf` | no | `load::load_gltf`: a glTF file's meshes, instances under their composed transforms, materials' alpha modes and emitters as a `LightTree` (through `gltf`); needs `std` |
 //!
 //! One of `std` and `libm` must be enabled.
 //!
@@ -202,6 +204,24 @@ pub use shape::{
 pub(crate) use light::Polygon;
 pub(crate) use record::{Found, Made};
 pub(crate) use shape::{CrossingRegion, Meets};
+
+/// Scene files as hitkit's types, behind the `obj` and `gltf` features:
+/// [`load_obj`](load::load_obj) reads an OBJ file's objects as [`TriangleMesh`]es,
+/// [`load_gltf`](load::load_gltf) a glTF file's meshes, instances (with their composed
+/// transforms), materials' alpha modes and emitters. Errors name the file and what is
+/// wrong ([`LoadError`](load::LoadError)). See the guide's
+/// [scene files](guide::scene_files).
+#[cfg(any(feature = "obj", feature = "gltf"))]
+#[cfg_attr(docsrs, doc(cfg(any(feature = "obj", feature = "gltf"))))]
+pub mod load {
+    #[cfg(feature = "gltf")]
+    pub use crate::features::gltf::{
+        Alpha, GltfInstance, GltfMaterial, GltfMesh, GltfScene, load_gltf,
+    };
+    pub use crate::features::load::{LoadError, LoadErrorKind};
+    #[cfg(feature = "obj")]
+    pub use crate::features::obj::{ObjMesh, ObjScene, load_obj};
+}
 
 /// What writing your own shape or interior takes beyond the traits at the root: the
 /// closest-hit search's [`Found`] and [`Made`] (for [`Hittable::find`] and

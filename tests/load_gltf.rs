@@ -1,0 +1,182 @@
+//! `load::load_gltf` (the `gltf` feature): every mesh primitive once, every node as an
+//! instance under its composed transform, the materials' alpha modes and emission, the
+//! instances as a tree and the emitters as a light tree; bad files as errors naming the
+//! file and what is wrong. The files are written here, not kept in the repository.
+#![cfg(feature = "gltf")]
+
+use std::path::{Path, PathBuf};
+
+use hitkit::glam::{DVec2, DVec3};
+use hitkit::load::{Alpha, LoadErrorKind, load_gltf};
+use hitkit::{Bvh, GeometryError, Hittable, Interval, PdfHittable, Ray};
+
+fn dir(test: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("hitkit-gltf-{test}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// The buffer: a unit square's four corners, their texture coordinates, and its two
+/// triangles' indices.
+fn square_bytes(last_index: u16) -> Vec<u8> {
+    let corners: [[f32; 3]; 4] = [
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [1.0, 1.0, 0.0],
+        [0.0, 1.0, 0.0],
+    ];
+    let uvs: [[f32; 2]; 4] = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
+    let mut bytes = Vec::new();
+    corners
+        .iter()
+        .flatten()
+        .for_each(|x| bytes.extend(x.to_le_bytes()));
+    uvs.iter()
+        .flatten()
+        .for_each(|x| bytes.extend(x.to_le_bytes()));
+    [0u16, 1, 2, 0, 2, last_index]
+        .iter()
+        .for_each(|i| bytes.extend(i.to_le_bytes()));
+    bytes
+}
+
+/// A scene: a parent node scaled by 2 and moved to z = -5 with two leaves (one moved
+/// along x, one stretched 1:3:0.5), both of a cut-out square; and a lamp square turned to
+/// face down at y = 10. `mode` is the primitives' mode (4: triangles).
+fn scene_json(mode: u32) -> String {
+    format!(
+        r#"{{
+  "asset": {{"version": "2.0"}},
+  "buffers": [{{"uri": "scene.bin", "byteLength": 92}}],
+  "bufferViews": [
+    {{"buffer": 0, "byteOffset": 0, "byteLength": 48}},
+    {{"buffer": 0, "byteOffset": 48, "byteLength": 32}},
+    {{"buffer": 0, "byteOffset": 80, "byteLength": 12}}
+  ],
+  "accessors": [
+    {{"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0]}},
+    {{"bufferView": 1, "componentType": 5126, "count": 4, "type": "VEC2"}},
+    {{"bufferView": 2, "componentType": 5123, "count": 6, "type": "SCALAR"}}
+  ],
+  "materials": [
+    {{"name": "leaf", "alphaMode": "MASK", "alphaCutoff": 0.25, "doubleSided": true,
+      "pbrMetallicRoughness": {{"baseColorFactor": [0.2, 0.6, 0.1, 1.0]}}}},
+    {{"name": "lamp", "emissiveFactor": [1.0, 1.0, 1.0]}}
+  ],
+  "meshes": [
+    {{"name": "leaf", "primitives": [{{"attributes": {{"POSITION": 0, "TEXCOORD_0": 1}}, "indices": 2, "material": 0, "mode": {mode}}}]}},
+    {{"name": "lamp", "primitives": [{{"attributes": {{"POSITION": 0}}, "indices": 2, "material": 1, "mode": {mode}}}]}}
+  ],
+  "nodes": [
+    {{"name": "branch", "scale": [2, 2, 2], "translation": [0, 0, -5], "children": [1, 2]}},
+    {{"name": "leaf a", "mesh": 0, "translation": [1, 0, 0]}},
+    {{"name": "leaf b", "mesh": 0, "scale": [1, 3, 0.5], "translation": [-2, 0, 0]}},
+    {{"name": "lamp", "mesh": 1, "translation": [0, 10, 0], "rotation": [0.7071067811865476, 0, 0, 0.7071067811865476]}}
+  ],
+  "scenes": [{{"nodes": [0, 3]}}],
+  "scene": 0
+}}"#
+    )
+}
+
+fn write(dir: &Path, json: &str, bytes: &[u8]) -> PathBuf {
+    std::fs::write(dir.join("scene.bin"), bytes).unwrap();
+    let path = dir.join("scene.gltf");
+    std::fs::write(&path, json).unwrap();
+    path
+}
+
+#[test]
+fn meshes_nodes_and_materials_come_as_the_file_gives_them() {
+    let dir = dir("scene");
+    let path = write(&dir, &scene_json(4), &square_bytes(3));
+    let scene = load_gltf(&path).unwrap();
+    assert_eq!(scene.meshes.len(), 2);
+    assert_eq!(
+        (scene.meshes[0].name.as_str(), scene.meshes[0].material),
+        ("leaf#0", Some(0))
+    );
+    let (leaf, lamp) = (&scene.materials[0], &scene.materials[1]);
+    assert_eq!(leaf.alpha, Alpha::Mask { cutoff: 0.25 });
+    assert!(leaf.double_sided && leaf.emissive == DVec3::ZERO);
+    assert_eq!((lamp.alpha, lamp.emissive), (Alpha::Opaque, DVec3::ONE));
+    let nodes: Vec<_> = scene
+        .instances
+        .iter()
+        .map(|i| (i.node.as_str(), i.mesh))
+        .collect();
+    assert_eq!(nodes, [("leaf a", 0), ("leaf b", 0), ("lamp", 1)]);
+    // Composed: the branch's scale and move after the leaf's own.
+    let a = scene.instances[0].transform;
+    assert_eq!(a.transform_point3(DVec3::ZERO), DVec3::new(2.0, 0.0, -5.0));
+    assert_eq!(a.transform_point3(DVec3::ONE), DVec3::new(4.0, 2.0, -3.0));
+    let b = scene.instances[1].transform;
+    assert_eq!(
+        b.transform_point3(DVec3::new(1.0, 1.0, 0.0)),
+        DVec3::new(-2.0, 6.0, -5.0)
+    );
+
+    // As a tree: a ray down the z axis through leaf a's middle, and one through leaf b.
+    let tree = Bvh::new(scene.transformed().unwrap());
+    let ray = Ray::new(DVec3::new(3.0, 1.0, 10.0), DVec3::NEG_Z);
+    let hit = tree.hit(&ray, Interval::FORWARD).unwrap();
+    assert_eq!((hit.t, hit.instance), (15.0, Some(0)));
+    assert!(
+        (hit.uv - DVec2::new(0.5, 0.5)).length() < 1e-12,
+        "{:?}",
+        hit.uv
+    );
+    let hit = tree
+        .hit(
+            &Ray::new(DVec3::new(-3.0, 5.0, 10.0), DVec3::NEG_Z),
+            Interval::FORWARD,
+        )
+        .unwrap();
+    assert_eq!(hit.instance, Some(1));
+    // The lamp: turned a quarter about x, its square lies in y = 10 facing down.
+    let lights = scene.lights().unwrap().unwrap();
+    assert_eq!(lights.lights().len(), 2);
+    let below = DVec3::new(0.5, 0.0, -0.5);
+    let toward = lights.sample_direction(below, DVec2::new(0.3, 0.6));
+    assert!(toward.y > 0.0 && lights.pdf_value(below, toward) > 0.0);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn bad_files_are_errors_naming_the_file_and_what_is_wrong() {
+    let dir = dir("bad");
+    let missing = dir.join("missing.gltf");
+    let err = load_gltf(&missing).unwrap_err();
+    assert!(matches!(err.kind, LoadErrorKind::Io(_)) && err.to_string().contains("missing.gltf"));
+
+    let path = dir.join("scene.gltf");
+    std::fs::write(&path, "{ not json").unwrap();
+    let err = load_gltf(&path).unwrap_err();
+    assert!(matches!(err.kind, LoadErrorKind::Parse(_)), "{err:?}");
+    assert!(err.to_string().contains("scene.gltf"), "{err}");
+
+    // Its buffer file gone.
+    std::fs::write(&path, scene_json(4)).unwrap();
+    let err = load_gltf(&path).unwrap_err();
+    assert!(matches!(err.kind, LoadErrorKind::Parse(_)), "{err:?}");
+
+    // Points, not triangles.
+    let path = write(&dir, &scene_json(0), &square_bytes(3));
+    let err = load_gltf(&path).unwrap_err();
+    assert!(matches!(err.kind, LoadErrorKind::Unsupported(_)), "{err:?}");
+    assert!(err.to_string().contains("leaf#0"), "{err}");
+
+    // An index past the four corners.
+    let path = write(&dir, &scene_json(4), &square_bytes(9));
+    let err = load_gltf(&path).unwrap_err();
+    match err.kind {
+        LoadErrorKind::Geometry {
+            ref mesh,
+            error: GeometryError::IndexOutOfRange { index: 9, .. },
+        } => {
+            assert_eq!(mesh, "leaf#0");
+        }
+        _ => panic!("{err:?}"),
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
