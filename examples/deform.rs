@@ -239,6 +239,7 @@ fn main() -> ExitCode {
             defocus_angle: 0.0,
             focus_dist: 6.0,
             shutter: false,
+            mask: u32::MAX,
         },
     };
     // The bar is over the frames, not each frame's rows.

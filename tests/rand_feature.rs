@@ -59,3 +59,45 @@ fn a_rand_09_generator_samples_the_same_way() {
         assert_eq!(pdf, lights.pdf_value(origin, direction));
     }
 }
+
+/// `random_light` is `sample_light` of the generator's two numbers, for both versions of
+/// `rand`: the same sample, bit for bit.
+#[test]
+fn random_light_is_sample_light_of_the_generators_numbers() {
+    use hitkit::ShadingContext;
+    let lights = support::four_lights();
+    let at = ShadingContext::on_surface(
+        DVec3::new(0.1, 0.2, -0.3),
+        DVec3::new(0.0, 1.0, 0.2).normalize(),
+    );
+    let mut rng = SmallRng::seed_from_u64(12);
+    let mut twin = rng.clone();
+    let mut sampled = 0;
+    for _ in 0..1000 {
+        let sample = lights.random_light(&at, &mut rng);
+        let scale = 1.0 / (1u64 << 53) as f64;
+        let u = DVec2::new(
+            (twin.next_u64() >> 11) as f64 * scale,
+            (twin.next_u64() >> 11) as f64 * scale,
+        );
+        assert_eq!(sample, lights.sample_light(&at, u));
+        sampled += usize::from(sample.is_some_and(|s| s.pdf > 0.0));
+    }
+    assert!(sampled > 500, "{sampled}");
+    #[cfg(feature = "rand09")]
+    {
+        use hitkit::RandomDirection09;
+        use rand09::{RngCore, SeedableRng};
+        let mut rng = rand09::rngs::SmallRng::seed_from_u64(13);
+        let mut twin = rng.clone();
+        for _ in 0..100 {
+            let sample = RandomDirection09::random_light(&lights, &at, &mut rng);
+            let scale = 1.0 / (1u64 << 53) as f64;
+            let u = DVec2::new(
+                (twin.next_u64() >> 11) as f64 * scale,
+                (twin.next_u64() >> 11) as f64 * scale,
+            );
+            assert_eq!(sample, lights.sample_light(&at, u));
+        }
+    }
+}

@@ -22,6 +22,9 @@ pub struct CameraSettings {
     /// Whether the shutter is open from time 0 to 1 (each ray at a random time: motion
     /// blur) rather than an instant at time 0; only scenes with moving objects need it.
     pub shutter: bool,
+    /// What the camera's rays see (`Ray::mask`): every bit, unless a scene hides objects
+    /// from the camera (`hitkit::Masked`).
+    pub mask: u32,
 }
 
 /// The camera, set up once per render.
@@ -34,6 +37,7 @@ pub struct Camera {
     defocus_u: DVec3,
     defocus_v: DVec3,
     shutter: bool,
+    mask: u32,
 }
 
 impl Camera {
@@ -57,6 +61,7 @@ impl Camera {
             defocus_u: radius * u,
             defocus_v: radius * v,
             shutter: s.shutter,
+            mask: s.mask,
         }
     }
 
@@ -72,7 +77,7 @@ impl Camera {
         } else {
             self.center
         };
-        let ray = Ray::new(origin, target - origin);
+        let ray = Ray::new(origin, target - origin).with_mask(self.mask);
         // Drawn only with the shutter open, so that still scenes use the same random
         // numbers (and make the same images) as before motion existed.
         if self.shutter {

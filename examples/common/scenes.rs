@@ -48,6 +48,7 @@ pub fn quads_scene(width: usize) -> Scene<Vec<Quad>> {
             defocus_angle: 0.0,
             focus_dist: 10.0,
             shutter: false,
+            mask: u32::MAX,
         },
     }
 }
@@ -119,6 +120,7 @@ pub fn shapes_scene(width: usize) -> Scene<Vec<Box<dyn hitkit::Hittable>>> {
             defocus_angle: 0.0,
             focus_dist: 8.0,
             shutter: false,
+            mask: u32::MAX,
         },
     }
 }
@@ -216,6 +218,7 @@ fn cornell_camera(width: usize) -> CameraSettings {
         defocus_angle: 0.0,
         focus_dist: 10.0,
         shutter: false,
+        mask: u32::MAX,
     }
 }
 
@@ -496,6 +499,7 @@ pub fn mesh_scene(
             defocus_angle: 0.0,
             focus_dist: 10.0,
             shutter: true,
+            mask: u32::MAX,
         },
     }
 }
@@ -638,6 +642,7 @@ pub fn hall_scene(
             defocus_angle: 0.0,
             focus_dist: 10.0,
             shutter: false,
+            mask: u32::MAX,
         },
     }
 }

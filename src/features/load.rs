@@ -72,20 +72,6 @@ impl LoadError {
     }
 }
 
-/// Points from a flat list of coordinates, three by three, as formats store them.
-pub(crate) fn triples(flat: &[f64]) -> Vec<DVec3> {
-    flat.chunks_exact(3)
-        .map(|p| DVec3::new(p[0], p[1], p[2]))
-        .collect()
-}
-
-/// Pairs from a flat list, two by two.
-pub(crate) fn pairs(flat: &[f64]) -> Vec<DVec2> {
-    flat.chunks_exact(2)
-        .map(|p| DVec2::new(p[0], p[1]))
-        .collect()
-}
-
 /// A mesh from a file's arrays, with the normals and texture coordinates where there is one
 /// for every vertex (and none otherwise), its error naming the file and the mesh.
 pub(crate) fn build_mesh(

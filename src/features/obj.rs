@@ -2,7 +2,9 @@
 
 use std::path::Path;
 
-use super::load::{LoadError, LoadErrorKind, build_mesh, pairs, triples};
+use glam::{DVec2, DVec3};
+
+use super::load::{LoadError, LoadErrorKind, build_mesh};
 use crate::{MaterialId, TriangleMesh};
 
 /// An OBJ file's meshes, as [`load_obj`] reads them.
@@ -110,4 +112,18 @@ pub fn load_obj(path: impl AsRef<Path>) -> Result<ObjScene, LoadError> {
         materials,
         material_error,
     })
+}
+
+/// Points from a flat list of coordinates, three by three, as formats store them.
+fn triples(flat: &[f64]) -> Vec<DVec3> {
+    flat.chunks_exact(3)
+        .map(|p| DVec3::new(p[0], p[1], p[2]))
+        .collect()
+}
+
+/// Pairs from a flat list, two by two.
+fn pairs(flat: &[f64]) -> Vec<DVec2> {
+    flat.chunks_exact(2)
+        .map(|p| DVec2::new(p[0], p[1]))
+        .collect()
 }

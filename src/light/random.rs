@@ -4,7 +4,7 @@
 
 use glam::{DVec2, DVec3};
 
-use crate::PdfHittable;
+use crate::{LightSample, PdfHittable, ShadingContext};
 
 /// Samples any [`PdfHittable`] (a `dyn` one too) with a `rand` 0.10 generator, beside the
 /// [`sample_direction`](PdfHittable::sample_direction) that takes a point of `[0, 1)^2`
@@ -31,6 +31,30 @@ pub trait RandomDirection: PdfHittable {
     /// (see [`PdfHittable::sample_direction`]) and should not be divided by.
     fn random_direction<R: rand::Rng + ?Sized>(&self, origin: DVec3, rng: &mut R) -> (DVec3, f64) {
         drawn(self, origin, || rng.next_u64())
+    }
+
+    /// A point on the light seen from `at`, for next-event estimation
+    /// ([`sample_light`](PdfHittable::sample_light)), from two uniform numbers of `[0, 1)`
+    /// drawn from `rng`: the direction, distance, the light's surface and the density.
+    ///
+    /// ```
+    /// use hitkit::glam::DVec3;
+    /// use hitkit::{Quad, RandomDirection, ShadingContext};
+    /// use rand::SeedableRng;
+    ///
+    /// let lamp = Quad::new(DVec3::new(-1.0, 2.0, -1.0), DVec3::X * 2.0, DVec3::Z * 2.0).unwrap();
+    /// let mut rng = rand::rngs::SmallRng::seed_from_u64(7);
+    /// let at = ShadingContext::on_surface(DVec3::ZERO, DVec3::Y);
+    /// let sample = lamp.random_light(&at, &mut rng).unwrap();
+    /// assert!(sample.pdf > 0.0 && sample.record.point.y == 2.0);
+    /// ```
+    fn random_light<R: rand::Rng + ?Sized>(
+        &self,
+        at: &ShadingContext,
+        rng: &mut R,
+    ) -> Option<LightSample> {
+        let u = DVec2::new(unit(rng.next_u64()), unit(rng.next_u64()));
+        self.sample_light(at, u)
     }
 }
 
@@ -72,6 +96,16 @@ pub trait RandomDirection09: PdfHittable {
         rng: &mut R,
     ) -> (DVec3, f64) {
         drawn(self, origin, || rng.next_u64())
+    }
+
+    /// As [`RandomDirection::random_light`], from a `rand` 0.9 generator.
+    fn random_light<R: rand09::RngCore + ?Sized>(
+        &self,
+        at: &ShadingContext,
+        rng: &mut R,
+    ) -> Option<LightSample> {
+        let u = DVec2::new(unit(rng.next_u64()), unit(rng.next_u64()));
+        self.sample_light(at, u)
     }
 }
 
