@@ -53,8 +53,7 @@ pub trait RandomDirection: PdfHittable {
         at: &ShadingContext,
         rng: &mut R,
     ) -> Option<LightSample> {
-        let u = DVec2::new(unit(rng.next_u64()), unit(rng.next_u64()));
-        self.sample_light(at, u)
+        lit(self, at, || rng.next_u64())
     }
 }
 
@@ -104,8 +103,7 @@ pub trait RandomDirection09: PdfHittable {
         at: &ShadingContext,
         rng: &mut R,
     ) -> Option<LightSample> {
-        let u = DVec2::new(unit(rng.next_u64()), unit(rng.next_u64()));
-        self.sample_light(at, u)
+        lit(self, at, || rng.next_u64())
     }
 }
 
@@ -122,6 +120,16 @@ fn drawn<L: PdfHittable + ?Sized>(
     let u = DVec2::new(unit(next()), unit(next()));
     let direction = light.sample_direction(origin, u);
     (direction, light.pdf_value(origin, direction))
+}
+
+/// A point on `light` seen from `at`, from two uniform numbers made of `next`'s bits.
+fn lit<L: PdfHittable + ?Sized>(
+    light: &L,
+    at: &ShadingContext,
+    mut next: impl FnMut() -> u64,
+) -> Option<LightSample> {
+    let u = DVec2::new(unit(next()), unit(next()));
+    light.sample_light(at, u)
 }
 
 /// The top 53 bits of `bits` as a uniform number of `[0, 1)`.
