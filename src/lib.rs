@@ -178,7 +178,7 @@ mod simd;
 pub use glam;
 
 pub use aabb::Aabb;
-pub use bvh::{Bvh, TreeCost, Visits};
+pub use bvh::{Bvh, ObjectCandidate, TreeCost, Visits};
 pub use error::GeometryError;
 pub use hittable::{Hittable, PdfHittable};
 pub use instance::{Affine, Moving, Rigid, Transformed};

@@ -221,3 +221,96 @@ fn turned_instances_of_a_filtered_mesh_in_a_tree_answer_as_their_loop() {
         assert_eq!(tree.occluded(&ray, FORWARD), hit.is_some(), "{ray:?}");
     }
 }
+
+/// The quads and disks of a tree, cut out by a checkerboard of their `(alpha, beta)`, and
+/// spheres whose nearer crossings are cut away: `Bvh::hit_filtered` answers as the loop
+/// over the objects with the same cut, `occluded_filtered` as `hit_filtered(..).is_some()`,
+/// and the filter is asked once per crossing.
+#[test]
+fn a_tree_filtered_object_by_object_answers_as_the_loop() {
+    use hitkit::custom::Made;
+    use hitkit::{Disk, ObjectCandidate, Quad, Sphere};
+    let mut rng = SplitMix::new(18);
+    let mut objects: Vec<Box<dyn Hittable>> = Vec::new();
+    for k in 0..120 {
+        let q = 20.0 * (rng.vec3() - 0.5);
+        let (u, v) = (2.0 * rng.direction(), 2.0 * rng.direction());
+        if k % 2 == 0 {
+            objects.push(Box::new(Quad::new(q, u, v).unwrap()));
+        } else {
+            objects.push(Box::new(Quad::with_interior(q, u, v, Disk).unwrap()));
+        }
+    }
+    let spheres = 120..140;
+    for _ in spheres.clone() {
+        objects.push(Box::new(
+            Sphere::new(20.0 * (rng.vec3() - 0.5), 1.5).unwrap(),
+        ));
+    }
+    // Quads and disks: a checkerboard of their coordinates.
+    let keeps = |object: usize, coords: DVec2| {
+        let cell = (3.0 * coords).floor();
+        object >= 120 || (cell.x + cell.y).rem_euclid(2.0) == 0.0
+    };
+    let tree = hitkit::Bvh::new(objects);
+    let asked: Mutex<HashMap<(usize, u64), u32>> = Mutex::new(HashMap::new());
+    let filter = |c: &ObjectCandidate| {
+        *asked
+            .lock()
+            .unwrap()
+            .entry((c.object, c.t.to_bits()))
+            .or_default() += 1;
+        // A sphere's crossing counts only from the far side of its centre on.
+        let centre_t = if spheres.contains(&c.object) {
+            let o = &tree.objects()[(0..tree.len())
+                .find(|&i| tree.original_index(i) == c.object)
+                .unwrap()];
+            let middle = o.bounding_box().min().midpoint(o.bounding_box().max());
+            (middle - c.ray.origin).dot(c.ray.direction) / c.ray.direction.length_squared()
+        } else {
+            f64::NEG_INFINITY
+        };
+        c.t >= centre_t && keeps(c.object, c.coords.truncate())
+    };
+    let mut cut = 0;
+    for _ in 0..2000 {
+        let ray = Ray::new(30.0 * (rng.vec3() - 0.5), rng.direction());
+        asked.lock().unwrap().clear();
+        let hit = tree.hit_filtered(&ray, FORWARD, filter);
+        assert!(asked.lock().unwrap().values().all(|&n| n == 1));
+        // The loop: each quad's one crossing, each sphere's far one.
+        let mut best: Option<(usize, HitRecord)> = None;
+        for i in 0..tree.len() {
+            let (object, shape) = (tree.original_index(i), &tree.objects()[i]);
+            let found = if spheres.contains(&object) {
+                let middle = shape
+                    .bounding_box()
+                    .min()
+                    .midpoint(shape.bounding_box().max());
+                let centre_t =
+                    (middle - ray.origin).dot(ray.direction) / ray.direction.length_squared();
+                shape.hit(&ray, Interval::new(centre_t.max(0.0), f64::INFINITY))
+            } else {
+                // The shape's own coordinates of its one crossing, as the filter sees them.
+                let found = shape.find(&ray, FORWARD, &mut Made::new());
+                found
+                    .filter(|f| keeps(object, f.coords.truncate()))
+                    .and_then(|_| shape.hit(&ray, FORWARD))
+            };
+            if let Some(h) = found
+                && best.is_none_or(|(b, bh)| h.t < bh.t || (h.t == bh.t && object < b))
+            {
+                best = Some((object, h));
+            }
+        }
+        assert_eq!(
+            hit.map(|(i, h)| (i, h.t)),
+            best.map(|(i, h)| (i, h.t)),
+            "{ray:?}"
+        );
+        assert_eq!(tree.occluded_filtered(&ray, FORWARD, filter), hit.is_some());
+        cut +=
+            usize::from(tree.hit_with_index(&ray, FORWARD).map(|(i, _)| i) != hit.map(|(i, _)| i));
+    }
+    assert!(cut > 100, "{cut}");
+}

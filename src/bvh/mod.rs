@@ -239,7 +239,7 @@ impl<T: Hittable> Bvh<T> {
         let mut kept = None;
         let (index, position, found) = dispatch(
             #[inline(always)]
-            || self.closest(ray, ray_t, &mut (), &mut kept),
+            || self.closest(ray, ray_t, &mut (), &mut kept, |_, _| true),
         )?;
         let hit = match kept {
             Some(made) if found.is_made() => Some(made),
@@ -251,6 +251,76 @@ impl<T: Hittable> Bvh<T> {
             // objects' own `hit` would answer.
             None => self.hit_by_records(ray, ray_t),
         }
+    }
+
+    /// [`Bvh::hit_with_index`], counting only the crossings `filter` takes: each object's
+    /// crossing ([`ObjectCandidate`]: the object's number, `t`, its own coordinates and
+    /// part, the ray) is asked of `filter`, and where it is turned away the object is asked
+    /// again beyond it, so the search goes on past a rejected crossing, inside the tree:
+    /// cut-outs on quads and other shapes of a tree (a mesh's faces have
+    /// [`Filtered`](crate::Filtered)). A rejected crossing costs no record.
+    ///
+    /// Asked at most once per crossing and query, and only about a crossing that would be
+    /// the closest so far; asking again beyond a rejected crossing asks the object a
+    /// second time, so an object whose `hit` is random (the book's fog) should not be
+    /// filtered. A crossing at exactly the rejected one's `t` on the same object is passed
+    /// over with it. `None` where the winner's record cannot be made (past `f64`'s range).
+    ///
+    /// ```
+    /// use hitkit::glam::DVec3;
+    /// use hitkit::{Bvh, Hittable, Interval, ObjectCandidate, Quad, Ray};
+    ///
+    /// # fn main() -> Result<(), hitkit::GeometryError> {
+    /// // A fence of two boards in a row, and a wall behind; the boards' lower halves are cut out.
+    /// let board = |x: f64| Quad::new(DVec3::new(x, 0.0, 0.0), DVec3::X, DVec3::Y);
+    /// let wall = Quad::new(DVec3::new(-5.0, -5.0, -3.0), 10.0 * DVec3::X, 10.0 * DVec3::Y)?;
+    /// let scene = Bvh::new(vec![board(0.0)?, board(1.0)?, wall]);
+    /// let cut = |c: &ObjectCandidate| c.object == 2 || c.coords.y >= 0.5; // beta: up the board
+    ///
+    /// let low = Ray::new(DVec3::new(0.5, 0.25, 1.0), DVec3::NEG_Z);
+    /// let (index, hit) = scene.hit_filtered(&low, Interval::FORWARD, cut).unwrap();
+    /// assert_eq!((index, hit.t), (2, 4.0)); // through the cut-out, to the wall
+    /// let high = Ray::new(DVec3::new(1.5, 0.75, 1.0), DVec3::NEG_Z);
+    /// assert_eq!(scene.hit_filtered(&high, Interval::FORWARD, cut).unwrap().0, 1);
+    /// assert!(!scene.occluded_filtered(&low, Interval::new(0.0, 3.5), cut));
+    /// # Ok(())
+    /// # }
+    /// ```
+    #[must_use]
+    pub fn hit_filtered(
+        &self,
+        ray: &Ray,
+        ray_t: Interval,
+        filter: impl Fn(&ObjectCandidate) -> bool,
+    ) -> Option<(usize, HitRecord)> {
+        let mut kept = None;
+        let accept = |index: usize, found: &Found| filter(&ObjectCandidate::new(ray, index, found));
+        let (index, position, found) = dispatch(
+            #[inline(always)]
+            || self.closest(ray, ray_t, &mut (), &mut kept, accept),
+        )?;
+        let hit = match kept {
+            Some(made) if found.is_made() => Some(made),
+            _ => self.objects[position].record(ray, ray_t, &found),
+        };
+        hit.map(|hit| (index, hit))
+    }
+
+    /// Whether any object has a crossing within `ray_t` that `filter` takes (see
+    /// [`Bvh::hit_filtered`]): `hit_filtered(..).is_some()` for a filter that answers the
+    /// same when asked the same.
+    #[must_use]
+    pub fn occluded_filtered(
+        &self,
+        ray: &Ray,
+        ray_t: Interval,
+        filter: impl Fn(&ObjectCandidate) -> bool,
+    ) -> bool {
+        let accept = |index: usize, found: &Found| filter(&ObjectCandidate::new(ray, index, found));
+        dispatch(
+            #[inline(always)]
+            || self.any::<true>(ray, ray_t, &mut (), accept),
+        )
     }
 
     /// What [`Bvh::hit`](Hittable::hit) costs on `ray`: the nodes whose children's boxes it
@@ -273,7 +343,7 @@ impl<T: Hittable> Bvh<T> {
     #[must_use]
     pub fn hit_visits(&self, ray: &Ray, ray_t: Interval) -> Visits {
         let mut visits = Visits::default();
-        self.closest(ray, ray_t, &mut visits, &mut None);
+        self.closest(ray, ray_t, &mut visits, &mut None, |_, _| true);
         visits
     }
 
@@ -282,7 +352,7 @@ impl<T: Hittable> Bvh<T> {
     #[must_use]
     pub fn occluded_visits(&self, ray: &Ray, ray_t: Interval) -> Visits {
         let mut visits = Visits::default();
-        self.any(ray, ray_t, &mut visits);
+        self.any::<false>(ray, ray_t, &mut visits, |_, _| true);
         visits
     }
 
@@ -297,6 +367,7 @@ impl<T: Hittable> Bvh<T> {
         ray_t: Interval,
         tally: &mut impl Tally,
         kept: &mut Option<HitRecord>,
+        accept: impl Fn(usize, &Found) -> bool,
     ) -> Option<(usize, usize, Found)> {
         // The places for made records live in the dispatched search, where the compiler
         // sees that quads and meshes never fill them, and drops them; the winner's record
@@ -323,9 +394,23 @@ impl<T: Hittable> Bvh<T> {
                     tests += 1;
                     // Candidates write the place that does not hold a made winner's
                     // record, so that one that ties and loses does not replace it (the
-                    // two take turns, as in a list).
-                    if let Some(found) =
-                        object.find(ray, Interval::new(ray_t.min, *t_max), &mut made[free])
+                    // two take turns, as in a list). A crossing `accept` turns away is
+                    // passed over: the object is asked again beyond it (never, where
+                    // `accept` is always true, as for every query but a filtered one).
+                    let mut min = ray_t.min;
+                    let candidate = loop {
+                        let found = object.find(ray, Interval::new(min, *t_max), &mut made[free]);
+                        match found {
+                            Some(f) if !accept(index, &f) => {
+                                min = f.t.next_up();
+                                if min > *t_max {
+                                    break None;
+                                }
+                            }
+                            _ => break found,
+                        }
+                    };
+                    if let Some(found) = candidate
                         && (found.t < *t_max || closest.is_none_or(|(best, _, _)| index < best))
                     {
                         if found.is_made() {
@@ -347,9 +432,17 @@ impl<T: Hittable> Bvh<T> {
         closest
     }
 
-    /// Whether any object occludes `ray` within `ray_t`.
+    /// Whether any object occludes `ray` within `ray_t`; with `FILTERED`, whether any has
+    /// a crossing that `accept` takes (asked of each object's crossings by `find`, from
+    /// the nearest on, until one is taken).
     #[inline(always)]
-    fn any(&self, ray: &Ray, ray_t: Interval, tally: &mut impl Tally) -> bool {
+    fn any<const FILTERED: bool>(
+        &self,
+        ray: &Ray,
+        ray_t: Interval,
+        tally: &mut impl Tally,
+        accept: impl Fn(usize, &Found) -> bool,
+    ) -> bool {
         let mut found = false;
         let mut t_max = ray_t.max;
         let mut tests = 0u32;
@@ -359,14 +452,30 @@ impl<T: Hittable> Bvh<T> {
             &mut t_max,
             tally,
             #[inline(always)]
-            |objects, _, _| {
-                found = objects.iter().any(|o| {
-                    if !sees(ray, o) {
-                        return false;
-                    }
-                    tests += 1;
-                    o.occluded(ray, ray_t)
-                });
+            |objects, first, _| {
+                found = objects
+                    .iter()
+                    .zip(&self.tree.order[first..])
+                    .any(|(o, &index)| {
+                        if !sees(ray, o) {
+                            return false;
+                        }
+                        tests += 1;
+                        if !FILTERED {
+                            return o.occluded(ray, ray_t);
+                        }
+                        let (mut made, mut min) = (Made::new(), ray_t.min);
+                        while let Some(f) = o.find(ray, Interval::new(min, ray_t.max), &mut made) {
+                            if accept(index as usize, &f) {
+                                return true;
+                            }
+                            min = f.t.next_up();
+                            if min > ray_t.max {
+                                break;
+                            }
+                        }
+                        false
+                    });
                 found
             },
         );
@@ -393,6 +502,36 @@ impl<T: Hittable> Bvh<T> {
             false
         });
         closest
+    }
+}
+
+/// An object's crossing that a [`Bvh::hit_filtered`] filter is asked about.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
+pub struct ObjectCandidate<'a> {
+    /// The ray.
+    pub ray: &'a Ray,
+    /// The object's number (as [`Bvh::hit_with_index`] gives it).
+    pub object: usize,
+    /// Where along the ray, as the hit would report it.
+    pub t: f64,
+    /// The object's own coordinates of the crossing ([`Found::coords`]: a quad's
+    /// `(alpha, beta)`, a mesh's barycentrics).
+    pub coords: DVec3,
+    /// Which part of the object ([`Found::part`]: a mesh's face in its tree's order, a
+    /// box's face).
+    pub part: u32,
+}
+
+impl<'a> ObjectCandidate<'a> {
+    fn new(ray: &'a Ray, object: usize, found: &Found) -> Self {
+        Self {
+            ray,
+            object,
+            t: found.t,
+            coords: found.coords,
+            part: found.part,
+        }
     }
 }
 
@@ -429,7 +568,7 @@ impl<T: Hittable> Hittable for Bvh<T> {
     fn occluded(&self, ray: &Ray, ray_t: Interval) -> bool {
         dispatch(
             #[inline(always)]
-            || self.any(ray, ray_t, &mut ()),
+            || self.any::<false>(ray, ray_t, &mut (), |_, _| true),
         )
     }
 }
@@ -516,12 +655,12 @@ mod tests {
                         c.map(|(i, p, f)| (i, p, f.t.to_bits(), f.coords.to_array().map(f64::to_bits)))
                     };
                     prop_assert_eq!(
-                        key(bvh.closest(&ray, ray_t, &mut (), &mut None)),
-                        key(dispatch(#[inline(always)] || bvh.closest(&ray, ray_t, &mut (), &mut None)))
+                        key(bvh.closest(&ray, ray_t, &mut (), &mut None, |_, _| true)),
+                        key(dispatch(#[inline(always)] || bvh.closest(&ray, ray_t, &mut (), &mut None, |_, _| true)))
                     );
                     prop_assert_eq!(
-                        bvh.any(&ray, ray_t, &mut ()),
-                        dispatch(#[inline(always)] || bvh.any(&ray, ray_t, &mut ()))
+                        bvh.any::<false>(&ray, ray_t, &mut (), |_, _| true),
+                        dispatch(#[inline(always)] || bvh.any::<false>(&ray, ray_t, &mut (), |_, _| true))
                     );
                 }
             }
