@@ -239,7 +239,7 @@ impl<T: Hittable> Bvh<T> {
         let mut kept = None;
         let (index, position, found) = dispatch(
             #[inline(always)]
-            || self.closest(ray, ray_t, &mut (), &mut kept, |_, _| true),
+            || self.closest::<false>(ray, ray_t, &mut (), &mut kept, |_, _| true),
         )?;
         let hit = match kept {
             Some(made) if found.is_made() => Some(made),
@@ -297,7 +297,7 @@ impl<T: Hittable> Bvh<T> {
         let accept = |index: usize, found: &Found| filter(&ObjectCandidate::new(ray, index, found));
         let (index, position, found) = dispatch(
             #[inline(always)]
-            || self.closest(ray, ray_t, &mut (), &mut kept, accept),
+            || self.closest::<true>(ray, ray_t, &mut (), &mut kept, accept),
         )?;
         let hit = match kept {
             Some(made) if found.is_made() => Some(made),
@@ -343,7 +343,7 @@ impl<T: Hittable> Bvh<T> {
     #[must_use]
     pub fn hit_visits(&self, ray: &Ray, ray_t: Interval) -> Visits {
         let mut visits = Visits::default();
-        self.closest(ray, ray_t, &mut visits, &mut None, |_, _| true);
+        self.closest::<false>(ray, ray_t, &mut visits, &mut None, |_, _| true);
         visits
     }
 
@@ -361,7 +361,7 @@ impl<T: Hittable> Bvh<T> {
     /// [made](Found::is_made). (Inlined always, as `any`, so that
     /// [`dispatch`](crate::simd::dispatch) compiles all of it for AVX2.)
     #[inline(always)]
-    fn closest(
+    fn closest<const FILTERED: bool>(
         &self,
         ray: &Ray,
         ray_t: Interval,
@@ -395,19 +395,24 @@ impl<T: Hittable> Bvh<T> {
                     // Candidates write the place that does not hold a made winner's
                     // record, so that one that ties and loses does not replace it (the
                     // two take turns, as in a list). A crossing `accept` turns away is
-                    // passed over: the object is asked again beyond it (never, where
-                    // `accept` is always true, as for every query but a filtered one).
+                    // passed over: the object is asked again beyond it (only with
+                    // `FILTERED`: the tree's own queries keep the one call as it was).
                     let mut min = ray_t.min;
-                    let candidate = loop {
-                        let found = object.find(ray, Interval::new(min, *t_max), &mut made[free]);
-                        match found {
-                            Some(f) if !accept(index, &f) => {
-                                min = f.t.next_up();
-                                if min > *t_max {
-                                    break None;
+                    let candidate = if !FILTERED {
+                        object.find(ray, Interval::new(min, *t_max), &mut made[free])
+                    } else {
+                        loop {
+                            let found =
+                                object.find(ray, Interval::new(min, *t_max), &mut made[free]);
+                            match found {
+                                Some(f) if !accept(index, &f) => {
+                                    min = f.t.next_up();
+                                    if min > *t_max {
+                                        break None;
+                                    }
                                 }
+                                _ => break found,
                             }
-                            _ => break found,
                         }
                     };
                     if let Some(found) = candidate
@@ -453,6 +458,16 @@ impl<T: Hittable> Bvh<T> {
             tally,
             #[inline(always)]
             |objects, first, _| {
+                if !FILTERED {
+                    found = objects.iter().any(|o| {
+                        if !sees(ray, o) {
+                            return false;
+                        }
+                        tests += 1;
+                        o.occluded(ray, ray_t)
+                    });
+                    return found;
+                }
                 found = objects
                     .iter()
                     .zip(&self.tree.order[first..])
@@ -461,9 +476,6 @@ impl<T: Hittable> Bvh<T> {
                             return false;
                         }
                         tests += 1;
-                        if !FILTERED {
-                            return o.occluded(ray, ray_t);
-                        }
                         let (mut made, mut min) = (Made::new(), ray_t.min);
                         while let Some(f) = o.find(ray, Interval::new(min, ray_t.max), &mut made) {
                             if accept(index as usize, &f) {
@@ -655,8 +667,8 @@ mod tests {
                         c.map(|(i, p, f)| (i, p, f.t.to_bits(), f.coords.to_array().map(f64::to_bits)))
                     };
                     prop_assert_eq!(
-                        key(bvh.closest(&ray, ray_t, &mut (), &mut None, |_, _| true)),
-                        key(dispatch(#[inline(always)] || bvh.closest(&ray, ray_t, &mut (), &mut None, |_, _| true)))
+                        key(bvh.closest::<false>(&ray, ray_t, &mut (), &mut None, |_, _| true)),
+                        key(dispatch(#[inline(always)] || bvh.closest::<false>(&ray, ray_t, &mut (), &mut None, |_, _| true)))
                     );
                     prop_assert_eq!(
                         bvh.any::<false>(&ray, ray_t, &mut (), |_, _| true),
