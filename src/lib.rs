@@ -36,10 +36,12 @@
 //! # The guide
 //! - [`guide::shapes`]: planes, quads and their interiors, spheres, boxes; what a hit
 //!   reports; bad input.
-//! - [`guide::trees`]: the [`Bvh`], triangle meshes, instances and motion.
+//! - [`guide::trees`]: the [`Bvh`], triangle meshes, instances (rigid or scaled) and motion.
 //! - [`guide::updates`]: scenes that change: refits, inserts, removes, when to rebuild.
 //! - [`guide::lights`]: sampling lights, next-event estimation, many lights.
 //! - [`guide::own_shapes`]: your own shape, interior or light ([`custom`]).
+//! - [`guide::scene_files`]: from a glTF or OBJ file to a traced scene: scaled instances,
+//!   cut-outs, visibility masks, lights.
 //!
 //! # Conventions
 //! - Vectors are [`glam::DVec3`] and [`glam::DVec2`] (hitkit re-exports `glam`); everything
