@@ -7,7 +7,8 @@ use alloc::sync::Arc;
 
 use glam::{DVec2, DVec3};
 
-use crate::{Aabb, Found, HitRecord, Interval, LightSample, Made, Ray, ShadingContext};
+use crate::record::{Found, Made};
+use crate::{Aabb, HitRecord, Interval, LightSample, Ray, ShadingContext};
 
 /// Something a ray can hit. Object safe: scenes mix shapes as `Box<dyn Hittable>`.
 ///

@@ -202,11 +202,6 @@ pub use shape::{
     Cuboid, Disk, Exact, Interior, Parallelogram, Plane, PlaneHit, Quad, Ring, Sphere, Triangle,
 };
 
-// Crate-wide names for what `custom` exports.
-pub(crate) use light::Polygon;
-pub(crate) use record::{Found, Made};
-pub(crate) use shape::{CrossingRegion, Meets};
-
 /// Scene files as hitkit's types, behind the `obj` and `gltf` features:
 /// [`load_obj`](load::load_obj) reads an OBJ file's objects as [`TriangleMesh`]es,
 /// [`load_gltf`](load::load_gltf) a glTF file's meshes, instances (with their composed
@@ -225,13 +220,25 @@ pub mod load {
     pub use crate::features::obj::{ObjMesh, ObjScene, load_obj};
 }
 
+/// [`custom::Found`], under the name a shape author tries first: `use hitkit::Found` then
+/// compiles, with a warning that names where it lives.
+#[doc(hidden)]
+#[deprecated(note = "`Found` lives in `hitkit::custom`: `use hitkit::custom::Found`")]
+pub type Found = record::Found;
+
+/// [`custom::Made`], under the name a shape author tries first (as `Found`).
+#[doc(hidden)]
+#[deprecated(note = "`Made` lives in `hitkit::custom`: `use hitkit::custom::Made`")]
+pub type Made = record::Made;
+
 /// What writing your own shape or interior takes beyond the traits at the root: the
-/// closest-hit search's [`Found`] and [`Made`] (for [`Hittable::find`] and
-/// [`Hittable::record`]), the region where a ray's exact crossing of a plane can lie
-/// ([`CrossingRegion`]) and an interior's answer about it
-/// ([`Meets`], for [`Interior::meets`]), and the polygons with a
-/// solid-angle sampler ([`Polygon`], for
-/// [`SampleInterior::polygon`]). See the guide's [own shapes](guide::own_shapes).
+/// closest-hit search's [`Found`](custom::Found) and [`Made`](custom::Made) (for
+/// [`Hittable::find`] and [`Hittable::record`]), the region where a ray's exact crossing
+/// of a plane can lie ([`CrossingRegion`](custom::CrossingRegion)) and an interior's
+/// answer about it ([`Meets`](custom::Meets), for [`Interior::meets`]), the polygons with
+/// a solid-angle sampler ([`Polygon`](custom::Polygon), for [`SampleInterior::polygon`]),
+/// and what an instance's linear part does ([`Frame`](custom::Frame)). See the guide's
+/// [own shapes](guide::own_shapes).
 pub mod custom {
     pub use crate::instance::Frame;
     pub use crate::light::Polygon;

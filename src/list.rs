@@ -3,7 +3,8 @@
 use alloc::vec::Vec;
 
 use crate::masked::sees;
-use crate::{Aabb, Found, HitRecord, Hittable, Interval, Made, Ray};
+use crate::record::{Found, Made};
+use crate::{Aabb, HitRecord, Hittable, Interval, Ray};
 
 impl<T: Hittable> Hittable for [T] {
     /// Finds the closest crossing with [`Hittable::find`] and builds the record of that one

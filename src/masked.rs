@@ -2,9 +2,8 @@
 
 use glam::{DVec2, DVec3};
 
-use crate::{
-    Aabb, Found, HitRecord, Hittable, Interval, LightSample, Made, PdfHittable, Ray, ShadingContext,
-};
+use crate::record::{Found, Made};
+use crate::{Aabb, HitRecord, Hittable, Interval, LightSample, PdfHittable, Ray, ShadingContext};
 
 /// `object`, seen only by rays whose [`mask`](Ray::mask) shares a bit with `mask`: a lamp
 /// that shadow rays find and the camera does not, an object that casts no shadow, a

@@ -25,8 +25,9 @@ use node::Node;
 use glam::DVec3;
 
 use crate::masked::sees;
+use crate::record::{Found, Made};
 use crate::simd::dispatch;
-use crate::{Aabb, Found, HitRecord, Hittable, Interval, Made, Ray};
+use crate::{Aabb, HitRecord, Hittable, Interval, Ray};
 
 /// Deepest a tree gets; the traversal stack has this many entries. The build switches to
 /// median splits (which halve the count) well before it: see `build::MEDIAN_FROM_DEPTH`.
@@ -663,7 +664,7 @@ mod tests {
                 let target = t.plane().q() + along * t.plane().u();
                 let ray = Ray::new(origin, (target - origin) * 2f64.powi(length));
                 for ray_t in [Interval::FORWARD, Interval::new(0.0, 2f64.powi(-length))] {
-                    let key = |c: Option<(usize, usize, crate::Found)>| {
+                    let key = |c: Option<(usize, usize, crate::record::Found)>| {
                         c.map(|(i, p, f)| (i, p, f.t.to_bits(), f.coords.to_array().map(f64::to_bits)))
                     };
                     prop_assert_eq!(

@@ -10,7 +10,8 @@ pub use frame::{Affine, Frame, Rigid};
 pub use moving::Moving;
 pub use transformed::Transformed;
 
-use crate::{Aabb, Found, HitRecord, Interval, Made, Ray};
+use crate::record::{Found, Made};
+use crate::{Aabb, HitRecord, Interval, Ray};
 
 /// The `t` of the object's crossing (along the moved ray) as the instance's: kept within
 /// the instance's box span along the whole of `ray`, since moving the ray rounds and can

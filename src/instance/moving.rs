@@ -5,7 +5,8 @@ use glam::DVec3;
 
 use crate::instance;
 use crate::math::gamma;
-use crate::{Aabb, Found, GeometryError, HitRecord, Hittable, Interval, Made, Ray};
+use crate::record::{Found, Made};
+use crate::{Aabb, GeometryError, HitRecord, Hittable, Interval, Ray};
 
 /// `object` moving in a straight line: at time `tau` it is moved by `tau * displacement`,
 /// for `tau` the ray's [`time`](Ray::time) clamped to `[0, 1]` (the shutter interval, as in

@@ -7,7 +7,8 @@ use super::frame::{Affine, Frame, Rigid};
 use crate::instance;
 use crate::light::{reaching, toward_middle};
 use crate::math::{direction_scale, gamma, ordinary, sin_cos};
-use crate::{Aabb, Found, GeometryError, HitRecord, Hittable, Interval, Made, PdfHittable, Ray};
+use crate::record::{Found, Made};
+use crate::{Aabb, GeometryError, HitRecord, Hittable, Interval, PdfHittable, Ray};
 
 /// `object` moved: rotated about the origin (or any invertible linear map, see
 /// [`Transformed::affine`]), then translated. Rays are taken into the object's space (`t`

@@ -6,8 +6,9 @@ use glam::DVec2;
 
 use super::TriangleMesh;
 use super::intersect::Crossing;
+use crate::record::{Found, Made};
 use crate::simd::dispatch;
-use crate::{Aabb, Found, HitRecord, Hittable, Interval, Made, Ray};
+use crate::{Aabb, HitRecord, Hittable, Interval, Ray};
 
 /// A crossing of a face that a [`Filtered`] mesh's filter is asked about: where along the
 /// ray, and, computed when asked (a filter that needs less pays for less), which face, its

@@ -21,8 +21,9 @@ use alloc::vec::Vec;
 use glam::{DVec2, DVec3};
 
 use crate::bvh::{Shape, Tree};
+use crate::record::{Found, Made};
 use crate::simd::dispatch;
-use crate::{Aabb, Found, GeometryError, HitRecord, Hittable, Interval, Made, MaterialId, Ray};
+use crate::{Aabb, GeometryError, HitRecord, Hittable, Interval, MaterialId, Ray};
 
 /// An indexed triangle mesh: vertex positions shared by faces that name them by index,
 /// optional per-vertex normals and texture coordinates, and a tree over the faces.

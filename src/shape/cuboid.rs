@@ -3,9 +3,8 @@
 
 use glam::DVec3;
 
-use crate::{
-    Aabb, Found, GeometryError, HitRecord, Hittable, Interval, Made, MaterialId, Quad, Ray,
-};
+use crate::record::{Found, Made};
+use crate::{Aabb, GeometryError, HitRecord, Hittable, Interval, MaterialId, Quad, Ray};
 
 /// The axis-aligned box with opposite corners `a` and `b`, as six [`Quad`]s with outward
 /// normals (the book's `box(a, b, mat)`): a ray from outside hits it with `front_face`

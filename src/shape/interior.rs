@@ -3,7 +3,8 @@
 use glam::{DVec2, DVec3};
 
 use crate::math::{gamma, sqrt};
-use crate::{Aabb, CrossingRegion, GeometryError, Hittable, Plane};
+use crate::shape::CrossingRegion;
+use crate::{Aabb, GeometryError, Hittable, Plane};
 
 /// The region of a plane that a [`Quad`](crate::Quad) covers, in `(alpha, beta)` space.
 ///

@@ -4,11 +4,14 @@
 use glam::{DVec2, DVec3};
 
 use super::{Crossing, Decided, Pending};
+use crate::light::Polygon;
 use crate::light::{Spherical, View, reaching, toward_middle, unit};
 use crate::math::{direction_scale, gamma, unit_and_length};
+use crate::record::{Found, Made};
+use crate::shape::Meets;
 use crate::{
-    Aabb, Found, GeometryError, HitRecord, Hittable, Interior, Interval, Made, MaterialId, Meets,
-    Parallelogram, PdfHittable, Plane, PlaneHit, Polygon, Ray, SampleInterior, Sampling,
+    Aabb, GeometryError, HitRecord, Hittable, Interior, Interval, MaterialId, Parallelogram,
+    PdfHittable, Plane, PlaneHit, Ray, SampleInterior, Sampling,
 };
 
 /// A planar shape: a [`Plane`] finds `(t, alpha, beta)`, an [`Interior`] predicate decides

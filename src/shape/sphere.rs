@@ -8,9 +8,8 @@ use glam::{DVec2, DVec3};
 
 use crate::light::{reaching, toward_middle};
 use crate::math::{acos, atan2, direction_scale, gamma, sin_cos, sqrt, unit_and_length};
-use crate::{
-    Aabb, Found, GeometryError, HitRecord, Hittable, Interval, Made, MaterialId, PdfHittable, Ray,
-};
+use crate::record::{Found, Made};
+use crate::{Aabb, GeometryError, HitRecord, Hittable, Interval, MaterialId, PdfHittable, Ray};
 
 /// A sphere: centre and radius. `uv` is `(phi / 2 pi, theta / pi)`, `phi` around the y axis
 /// from -x (as the book's `get_sphere_uv`), `theta` from -y.
