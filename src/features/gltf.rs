@@ -7,14 +7,12 @@ use std::string::{String, ToString};
 use std::sync::Arc;
 use std::vec::Vec;
 
-use core::f64::consts::PI;
-
 use glam::{DAffine3, DMat4, DVec3};
 
 use super::load::{LoadError, LoadErrorKind, build_mesh};
+use crate::light::Emitters;
 use crate::{
-    Affine, Emission, GeometryError, LightTree, MaterialId, Quad, Transformed, Triangle,
-    TriangleMesh,
+    Affine, GeometryError, LightTree, MaterialId, Quad, Transformed, Triangle, TriangleMesh,
 };
 
 /// A glTF file's meshes, instances and materials, as [`load_gltf`] reads them.
@@ -118,7 +116,7 @@ impl GltfScene {
     /// # Errors
     /// As [`LightTree::new`].
     pub fn lights(&self) -> Result<Option<LightTree<Quad<Triangle>>>, GeometryError> {
-        let (mut faces, mut powers, mut emission) = (Vec::new(), Vec::new(), Vec::new());
+        let mut emitters = Emitters::default();
         for instance in &self.instances {
             let mesh = &self.meshes[instance.mesh];
             let Some(material) = mesh.material.map(|m| &self.materials[m]) else {
@@ -128,28 +126,22 @@ impl GltfScene {
             if radiance.is_nan() || radiance <= 0.0 {
                 continue;
             }
-            let sides = if material.double_sided { 2.0 } else { 1.0 };
             for face in mesh.mesh.faces() {
-                let [a, b, c] = face
+                let corners = face
                     .corners()
                     .map(|p| instance.transform.transform_point3(p));
-                let Ok(quad) = Quad::with_interior(a, b - a, c - a, Triangle) else {
-                    continue;
-                };
-                let normal = quad.plane().normal();
-                powers.push(sides * PI * radiance * quad.area());
-                emission.push(if material.double_sided {
-                    Emission::BothSides(normal)
-                } else {
-                    Emission::OneSide(normal)
-                });
-                faces.push(quad.with_material(mesh.mesh.material()));
+                emitters.push(
+                    corners,
+                    radiance,
+                    material.double_sided,
+                    mesh.mesh.material(),
+                );
             }
         }
-        if faces.is_empty() {
+        if emitters.is_empty() {
             return Ok(None);
         }
-        LightTree::new(faces, &powers, &emission).map(Some)
+        emitters.tree().map(Some)
     }
 }
 

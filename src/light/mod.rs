@@ -37,6 +37,8 @@ pub use random::RandomDirection09;
 pub use sample::{LightSample, ShadingContext};
 pub use sampling::Sampling;
 pub(crate) use spherical::{Spherical, View};
+#[cfg(feature = "gltf")]
+pub(crate) use tree::Emitters;
 pub use tree::{Emission, LightTree};
 
 use glam::{DVec2, DVec3};

@@ -358,14 +358,18 @@ pub(crate) trait Library {
 
 struct Mesh<'a>(TriangleMesh, &'a [usize]);
 
+/// A mesh's closest hit as the scene numbers its faces (`position`), and its `t`.
+fn face_hit(mesh: &impl Hittable, position: &[usize], ray: &Ray) -> Hit {
+    mesh.hit(ray, Interval::FORWARD)
+        .map(|h| (position[h.primitive.expect("a face") as usize], h.t))
+}
+
 impl Library for Mesh<'_> {
     fn name(&self) -> String {
         "hitkit TriangleMesh".into()
     }
     fn closest(&self, ray: &Ray) -> Hit {
-        self.0
-            .hit(ray, Interval::FORWARD)
-            .map(|h| (self.1[h.primitive.expect("a face") as usize], h.t))
+        face_hit(&self.0, self.1, ray)
     }
     fn occluded(&self, ray: &Ray) -> bool {
         self.0.occluded(ray, SHADOW)
@@ -415,9 +419,7 @@ impl<F: Fn(&Candidate) -> bool + Send + Sync> Library for MeshFiltered<'_, F> {
         "hitkit TriangleMesh, Filtered (rejecting nothing)".into()
     }
     fn closest(&self, ray: &Ray) -> Hit {
-        self.0
-            .hit(ray, Interval::FORWARD)
-            .map(|h| (self.1[h.primitive.expect("a face") as usize], h.t))
+        face_hit(&self.0, self.1, ray)
     }
     fn occluded(&self, ray: &Ray) -> bool {
         self.0.occluded(ray, SHADOW)

@@ -201,24 +201,56 @@ impl LightTree<Quad<Triangle>> {
         radiance: f64,
         two_sided: bool,
     ) -> Result<Self, GeometryError> {
-        let mut faces = Vec::with_capacity(mesh.face_count());
-        let (mut powers, mut emission) = (Vec::new(), Vec::new());
-        let sides = if two_sided { 2.0 } else { 1.0 };
+        let mut emitters = Emitters::default();
         for face in mesh.faces() {
-            let [a, b, c] = face.corners();
-            let Ok(quad) = Quad::with_interior(a, b - a, c - a, Triangle) else {
-                continue;
-            };
-            let normal = quad.plane().normal();
-            powers.push(sides * PI * radiance * quad.area());
-            emission.push(if two_sided {
-                Emission::BothSides(normal)
-            } else {
-                Emission::OneSide(normal)
-            });
-            faces.push(quad.with_material(mesh.material()));
+            emitters.push(face.corners(), radiance, two_sided, mesh.material());
         }
-        Self::new(faces, &powers, &emission)
+        emitters.tree()
+    }
+}
+
+/// Triangles gathered as the lights of a [`LightTree`], each of power
+/// `PI * radiance * area` (twice that two-sided) and facing as its corners wind: what
+/// [`LightTree::from_mesh`] and a scene loader's emitters build.
+#[derive(Default)]
+pub(crate) struct Emitters {
+    faces: Vec<Quad<Triangle>>,
+    powers: Vec<f64>,
+    emission: Vec<Emission>,
+}
+
+impl Emitters {
+    /// The triangle `[a, b, c]` as a light, unless it is degenerate (of no area).
+    pub(crate) fn push(
+        &mut self,
+        [a, b, c]: [DVec3; 3],
+        radiance: f64,
+        two_sided: bool,
+        material: crate::MaterialId,
+    ) {
+        let Ok(quad) = Quad::with_interior(a, b - a, c - a, Triangle) else {
+            return;
+        };
+        let normal = quad.plane().normal();
+        let sides = if two_sided { 2.0 } else { 1.0 };
+        self.powers.push(sides * PI * radiance * quad.area());
+        self.emission.push(if two_sided {
+            Emission::BothSides(normal)
+        } else {
+            Emission::OneSide(normal)
+        });
+        self.faces.push(quad.with_material(material));
+    }
+
+    /// Whether no light was gathered.
+    #[cfg(feature = "gltf")]
+    pub(crate) fn is_empty(&self) -> bool {
+        self.faces.is_empty()
+    }
+
+    /// The tree over the lights gathered.
+    pub(crate) fn tree(self) -> Result<LightTree<Quad<Triangle>>, GeometryError> {
+        LightTree::new(self.faces, &self.powers, &self.emission)
     }
 }
 
