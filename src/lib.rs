@@ -176,11 +176,12 @@ mod ray;
 mod record;
 mod shape;
 mod simd;
+mod tree;
 
 pub use glam;
 
 pub use aabb::Aabb;
-pub use bvh::{Bvh, ObjectCandidate, TreeCost, Visits};
+pub use bvh::{Bvh, ObjectCandidate};
 pub use error::GeometryError;
 pub use hittable::{Hittable, PdfHittable};
 pub use instance::{Affine, Moving, Rigid, Transformed};
@@ -201,6 +202,7 @@ pub use record::{HitRecord, MaterialId};
 pub use shape::{
     Cuboid, Disk, Exact, Interior, Parallelogram, Plane, PlaneHit, Quad, Ring, Sphere, Triangle,
 };
+pub use tree::{TreeCost, Visits};
 
 /// Scene files as hitkit's types, behind the `obj` and `gltf` features:
 /// [`load_obj`](load::load_obj) reads an OBJ file's objects as [`TriangleMesh`]es,

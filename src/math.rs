@@ -302,6 +302,12 @@ fn quick_two_sum(a: f64, b: f64) -> Dd {
     }
 }
 
+/// `|v|_1`: the norm rounding bounds are stated in.
+#[inline(always)]
+pub(crate) fn l1(v: glam::DVec3) -> f64 {
+    v.abs().element_sum()
+}
+
 #[cfg(test)]
 mod tests {
     use super::{Dd, mul_add};

@@ -1,42 +1,18 @@
-//! A bounding volume hierarchy over any [`Hittable`]: flat, built with binned SAH,
-//! traversed front to back without recursion or allocation.
-//!
-//! By operation: `node.rs` (a node's `f32` boxes and how a box becomes them), `build.rs`
-//! (binned SAH), `collapse.rs` (the binary tree into nodes of eight), `traverse.rs`,
-//! `refit.rs`, `insert.rs` (the insertion search), `reinsert.rs` (`optimize`) and
-//! `update.rs` (the public API of changes: numbering, insert, remove, rebuild).
+//! A bounding volume hierarchy over any [`Hittable`]: the objects, in the order of the
+//! crate's one tree (`crate::tree`), and the searches over them; `update.rs` is the public
+//! API of changes (numbering, insert, remove, rebuild, optimize).
 
-mod build;
-mod collapse;
-mod insert;
-mod node;
-mod refit;
-mod reinsert;
-mod traverse;
 mod update;
 
-pub(crate) use build::Shape;
-pub(crate) use traverse::Tally;
-
 use alloc::vec::Vec;
-
-use node::Node;
 
 use glam::DVec3;
 
 use crate::masked::sees;
 use crate::record::{Found, Made};
 use crate::simd::dispatch;
+use crate::tree::{Shape, Tally, Tree, Visits, permute, wins};
 use crate::{Aabb, HitRecord, Hittable, Interval, Ray};
-
-/// Deepest a tree gets; the traversal stack has this many entries. The build switches to
-/// median splits (which halve the count) well before it: see `build::MEDIAN_FROM_DEPTH`.
-const MAX_DEPTH: usize = 64;
-
-/// Children per node: eight, one AVX2 instruction's `f32` lanes. (Against four: bounce and
-/// shadow rays 7% to 17% faster on meshes of real size, primary rays 3% to 10% slower;
-/// `docs/performance.md`, the triad.)
-const WIDTH: usize = 8;
 
 /// A bounding volume hierarchy: the closest hit (or any hit) among many objects without
 /// testing them all.
@@ -74,91 +50,30 @@ pub struct Bvh<T> {
     links: update::Links,
 }
 
-/// What one query cost in a tree, counted by [`Bvh::hit_visits`],
-/// [`Bvh::occluded_visits`] and their [`TriangleMesh`](crate::TriangleMesh) namesakes.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct Visits {
-    /// Nodes whose children's boxes were tested (a node holds up to eight children).
-    pub nodes: u32,
-    /// Objects (or a mesh's faces) tested.
-    pub tests: u32,
-}
-
-/// A tree's cost by the surface area heuristic, when it was built and now, after updates
-/// moved its objects: what says when to rebuild it. See [`Bvh::cost`] and
-/// [`TriangleMesh::cost`](crate::TriangleMesh::cost).
-///
-/// The cost is the expected work of a ray that meets the tree's box, in units of one
-/// object test (node visits weighted as the build weighs them): a refitted tree keeps its
-/// shape, and as its objects move apart from the ones they were grouped with, its boxes
-/// grow and overlap and the cost rises. A rebuild brings it back to about `built`.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct TreeCost {
-    /// At the last build.
-    pub built: f64,
-    /// Now.
-    pub now: f64,
-}
-
-impl TreeCost {
-    /// How much dearer a ray is than at the last build, by the heuristic, beyond which
-    /// [`TreeCost::needs_rebuild`] says to rebuild.
-    pub const REBUILD_AT: f64 = 1.5;
-
-    /// `now / built` (1 for a tree of no bounded objects).
-    #[inline]
-    #[must_use]
-    pub fn ratio(&self) -> f64 {
-        if self.built > 0.0 {
-            self.now / self.built
-        } else {
-            1.0
-        }
-    }
-
-    /// The default policy: whether the cost has grown past [`TreeCost::REBUILD_AT`]
-    /// times its cost at build.
-    #[inline]
-    #[must_use]
-    pub fn needs_rebuild(&self) -> bool {
-        self.ratio() > Self::REBUILD_AT
-    }
-}
-
-/// The hierarchy itself, over objects known by position: what [`Bvh`] and
-/// [`TriangleMesh`](crate::TriangleMesh) share.
-#[derive(Clone, Debug)]
-pub(crate) struct Tree {
-    /// Empty when no object is in the tree.
-    nodes: Vec<Node>,
-    /// What the nodes' bounds are relative to: the centre of the bounded objects' box.
-    origin: DVec3,
-    /// Per axis, the largest rounding of `origin + bound` in `f64` over the node bounds
-    /// (where traversal's `f64` test puts the boxes), and whether every bound lies within
-    /// `2^60` of `origin`; see `traverse::Lanes`, the `f32` test that relies on both.
-    rounding: [f64; 3],
-    compact: bool,
-    /// Levels of nodes (0 for an empty tree): what bounds the traversal's stack.
-    depth: usize,
-    /// Whether a walk of the nodes, lane by lane, depth first, meets the leaves in the
-    /// objects' order, as the build makes them (an insertion can break it).
-    in_order: bool,
-    /// `order[i]`: the caller's position of the object at position `i` of the tree's
-    /// order (bounded objects first, then the unbounded ones).
-    pub(crate) order: Vec<u32>,
-    /// How many objects are in the tree.
-    bounded: usize,
-    /// What a node visit costs against one object test, as the build weighed it.
-    traversal_cost: f64,
-    /// Nodes no lane leads to any more (left empty by updates), for new nodes to reuse.
-    spare: Vec<u32>,
-}
-
-impl Tree {
-    /// Bytes held, for the memory figures.
-    pub(crate) fn heap_bytes(&self) -> usize {
-        self.nodes.capacity() * core::mem::size_of::<Node>()
-            + self.order.capacity() * core::mem::size_of::<u32>()
+impl<T: Hittable> Bvh<T> {
+    /// Offers `visit` the unbounded objects, then every leaf whose box the ray enters
+    /// within `[ray_t.min, *t_max]`, nearer child first where `NEAREST`. `visit` gets a
+    /// run of objects, the position of the first in `self.objects`, and `t_max`, which it
+    /// lowers as it finds hits (later boxes are culled against it); it returns `true` to
+    /// stop.
+    #[inline(always)]
+    fn walk<const NEAREST: bool>(
+        &self,
+        ray: &Ray,
+        ray_t: Interval,
+        t_max: &mut f64,
+        tally: &mut impl Tally,
+        mut visit: impl FnMut(&[T], usize, &mut f64) -> bool,
+    ) {
+        let objects = &self.objects;
+        self.tree.walk::<NEAREST>(
+            ray,
+            ray_t,
+            t_max,
+            tally,
+            #[inline(always)]
+            |first, count, t_max| visit(&objects[first..first + count], first, t_max),
+        );
     }
 }
 
@@ -168,7 +83,7 @@ impl<T: Hittable> Bvh<T> {
         let boxes: Vec<Aabb> = objects.iter().map(Hittable::bounding_box).collect();
         let (tree, bbox) = Tree::build(boxes.len(), |i| boxes[i], Shape::OBJECTS, parallel);
         drop(boxes);
-        build::permute(&mut objects, &tree.order);
+        permute(&mut objects, &tree.order);
         let built_cost = tree.sah_cost();
         Bvh {
             objects,
@@ -417,7 +332,7 @@ impl<T: Hittable> Bvh<T> {
                         }
                     };
                     if let Some(found) = candidate
-                        && (found.t < *t_max || closest.is_none_or(|(best, _, _)| index < best))
+                        && wins(found.t, index, *t_max, closest.map(|(best, _, _)| best))
                     {
                         if found.is_made() {
                             free ^= 1;
@@ -506,7 +421,12 @@ impl<T: Hittable> Bvh<T> {
                 let index = index as usize;
                 if sees(ray, object)
                     && let Some(hit) = object.hit(ray, Interval::new(ray_t.min, *t_max))
-                    && (hit.t < *t_max || closest.is_none_or(|(best, _)| index < best))
+                    && wins(
+                        hit.t,
+                        index,
+                        *t_max,
+                        closest.as_ref().map(|(best, _)| *best),
+                    )
                 {
                     *t_max = hit.t;
                     closest = Some((index, hit));
@@ -593,41 +513,6 @@ mod tests {
     use crate::{Interval, Quad, Ray, Triangle};
     use glam::DVec3;
     use proptest::prelude::*;
-
-    /// The build reserves exactly the nodes its collapse makes (`collapse::plan`):
-    /// no slack is kept, and the vector never grows by doubling, for trees of every shape
-    /// the build makes, from one object to leaves of coinciding boxes.
-    #[test]
-    fn the_build_keeps_no_spare_nodes() {
-        use super::Tree;
-        use super::build::Shape;
-        use crate::Aabb;
-        let mut state = 0x2545_f491_4f6c_dd1du64;
-        let mut next = move || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 11) as f64 / (1u64 << 53) as f64
-        };
-        for n in [1, 2, 3, 7, 8, 9, 64, 1000, 20_000] {
-            let boxes: Vec<Aabb> = (0..n)
-                .map(|i| {
-                    // Random boxes, and every eleventh at the same place (where the build
-                    // splits by count).
-                    let c = if i % 11 == 0 {
-                        DVec3::splat(0.5)
-                    } else {
-                        DVec3::new(next(), next(), next()) * 100.0
-                    };
-                    Aabb::new(c, c + DVec3::splat(next()))
-                })
-                .collect();
-            for shape in [Shape::OBJECTS, crate::mesh::MESH_SHAPE] {
-                let (tree, _) = Tree::build(n, |i| boxes[i], shape, false);
-                assert_eq!(tree.nodes.capacity(), tree.nodes.len(), "{n} boxes");
-            }
-        }
-    }
 
     proptest! {
         #![proptest_config(ProptestConfig::with_cases(100))]

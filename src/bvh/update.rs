@@ -3,9 +3,10 @@
 
 use alloc::vec::Vec;
 
-use super::insert::{Lane, Placed, ROOT};
-use super::{Bvh, TreeCost, WIDTH};
+use super::Bvh;
 use crate::Hittable;
+use crate::TreeCost;
+use crate::tree::{Lane, Placed, ROOT, WIDTH};
 
 /// What inserting and removing objects needs, made at the first insert or remove (a tree
 /// that is only built and refitted never pays for it).
@@ -127,11 +128,11 @@ impl<T: Hittable> Bvh<T> {
     /// assert_eq!(balls.hit_with_index(&ray, Interval::FORWARD).unwrap().1.t, 4.75);
     /// ```
     pub fn optimize(&mut self, share: f64) {
-        if self.tree.nodes.is_empty() {
+        if self.tree.is_empty() {
             return;
         }
         // Shrinking may leave nodes empty, and the tree shallower.
-        self.tree.depth = self.tree.tighten(0).map_or(1, |(_, height)| height);
+        self.tree.tighten_all();
         // What the worst lanes hold: found again by it, as lanes move.
         let worst: Vec<(u32, u32)> = (self.tree.worst_lanes(share).into_iter())
             .map(|id| self.tree.holds(id))
@@ -159,7 +160,7 @@ impl<T: Hittable> Bvh<T> {
             self.placed(&lane, &placed);
         }
         // Heights only grew as lanes came and went: the true depth.
-        self.tree.depth = self.tree.tighten(0).map_or(1, |(_, height)| height);
+        self.tree.tighten_all();
     }
 
     /// Adds `object` and returns the number it answers by (in [`Bvh::hit_with_index`]
@@ -338,11 +339,8 @@ impl<T: Hittable> Bvh<T> {
             links.positions[number as usize] = p as u32;
         }
         links.leaf_of = alloc::vec![0; self.tree.bounded];
-        for (n, node) in self.tree.nodes.iter().enumerate() {
-            for k in 0..WIDTH {
-                let (first, count) = (node.index[k] as usize, node.count[k] as usize);
-                links.leaf_of[first..first + count].fill((n * WIDTH + k) as u32);
-            }
+        for (id, first, count) in self.tree.leaves() {
+            links.leaf_of[first..first + count].fill(id);
         }
         links.made = true;
     }
@@ -350,65 +348,24 @@ impl<T: Hittable> Bvh<T> {
 
 #[cfg(test)]
 mod tests {
-    use super::{REMOVED, WIDTH};
-    use crate::math::Dd;
+    use super::REMOVED;
     use crate::{Bvh, Hittable, Sphere};
     use glam::DVec3;
     use proptest::prelude::*;
 
-    /// What every tree must hold, however it was changed: each position of the tree in
-    /// exactly one leaf, which the links name; each object's box inside every lane on its
-    /// way down (as traversal computes them: `origin + bound` in `f64`); the rounding the
-    /// `f32` lanes allow for covering every bound's; no more levels than `depth`; and every
-    /// live number at the position that holds it. Returns the levels of nodes.
+    /// What every tree must hold, however it was changed ([`Tree::check`](crate::tree::Tree::check)),
+    /// with the links: each position's leaf as the links name it, and every live number at
+    /// the position that holds it. Returns the levels of nodes.
     fn check(bvh: &Bvh<Sphere>) -> Result<usize, TestCaseError> {
-        let tree = &bvh.tree;
-        let mut seen = vec![0u32; tree.bounded];
-        // (node, boxes of the lanes above it)
-        let mut stack = vec![(0usize, 1usize, Vec::<(DVec3, DVec3)>::new())];
-        let mut levels = 0;
-        while let Some((n, level, above)) = stack.pop().filter(|_| !tree.nodes.is_empty()) {
-            prop_assert!(level <= tree.depth);
-            levels = levels.max(level);
-            let node = &tree.nodes[n];
-            for k in 0..WIDTH {
-                let world = |side: usize| {
-                    DVec3::from_array(
-                        [0, 1, 2].map(|a| tree.origin[a] + f64::from(node.bounds[side + a][k])),
-                    )
-                };
-                let mut path = above.clone();
-                path.push((world(0), world(3)));
-                if node.count[k] > 0 {
-                    let first = node.index[k] as usize;
-                    let range = first..first + node.count[k] as usize;
-                    for (p, times) in range.clone().zip(&mut seen[range]) {
-                        *times += 1;
-                        if bvh.links.made {
-                            prop_assert_eq!(bvh.links.leaf_of[p] as usize, n * WIDTH + k);
-                        }
-                        let b = bvh.objects[p].bounding_box();
-                        for (lo, hi) in &path {
-                            prop_assert!(lo.cmple(b.min()).all() && hi.cmpge(b.max()).all());
-                        }
-                    }
-                } else if node.index[k] != 0 {
-                    stack.push((node.index[k] as usize, level + 1, path));
+        let levels = bvh.tree.check(
+            |p| bvh.objects[p].bounding_box(),
+            |p, leaf| {
+                if bvh.links.made {
+                    prop_assert_eq!(bvh.links.leaf_of[p] as usize, leaf);
                 }
-                for side in 0..6 {
-                    let f = node.bounds[side][k];
-                    if f.is_finite() {
-                        let a = side % 3;
-                        let error = Dd::diff(tree.origin[a], -f64::from(f)).lo.abs();
-                        prop_assert!(error <= tree.rounding[a]);
-                    }
-                }
-            }
-        }
-        prop_assert!(
-            seen.iter().all(|&s| s == 1),
-            "a position in no leaf or in two"
-        );
+                Ok(())
+            },
+        )?;
         if bvh.links.made {
             for (number, &p) in bvh.links.positions.iter().enumerate() {
                 if p != REMOVED {
@@ -442,7 +399,7 @@ mod tests {
                     bvh.optimize([0.0, 0.1, 0.5, 1.0, 2.0, -1.0, f64::NAN][pick % 7]);
                     prop_assert_eq!(&bvh.tree.order, &order);
                     // The depth made exact again.
-                    prop_assert_eq!(check(&bvh)?, bvh.tree.depth);
+                    prop_assert_eq!(check(&bvh)?, bvh.tree.depth());
                 } else if change < 4 || live.is_empty() {
                     let number = bvh.insert(ball(c, 10f64.powi(scale)));
                     live.push(number);

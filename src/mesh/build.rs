@@ -7,8 +7,8 @@ use alloc::vec::Vec;
 use glam::DVec3;
 
 use super::{AREA_BLOCK, MESH_SHAPE, TriangleMesh};
-use crate::bvh::Tree;
 use crate::math::{gamma, length};
+use crate::tree::Tree;
 use crate::{Aabb, GeometryError, MaterialId};
 
 impl TriangleMesh {

@@ -5,7 +5,7 @@
 use glam::{DVec3, Vec3Swizzles};
 
 use crate::Ray;
-use crate::math::{Dd, UNIT_ROUNDOFF, direction_scale, gamma};
+use crate::math::{Dd, UNIT_ROUNDOFF, direction_scale, gamma, l1};
 
 /// A ray in the frame the test works in, set up once per ray: the axes permuted so that
 /// `z` is the direction's largest component (a cyclic permutation, which keeps
@@ -334,9 +334,4 @@ fn permute(v: DVec3, kz: usize) -> DVec3 {
         1 => v.zxy(),
         _ => v,
     }
-}
-
-#[inline(always)]
-fn l1(v: DVec3) -> f64 {
-    v.x.abs() + v.y.abs() + v.z.abs()
 }

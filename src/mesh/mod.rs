@@ -20,9 +20,9 @@ use alloc::vec::Vec;
 
 use glam::{DVec2, DVec3};
 
-use crate::bvh::{Shape, Tree};
 use crate::record::{Found, Made};
 use crate::simd::dispatch;
+use crate::tree::{Shape, Tree};
 use crate::{Aabb, GeometryError, HitRecord, Hittable, Interval, MaterialId, Ray};
 
 /// An indexed triangle mesh: vertex positions shared by faces that name them by index,

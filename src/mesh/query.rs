@@ -7,8 +7,8 @@ use glam::{DVec2, DVec3};
 use super::intersect::{Crossing, Sheared};
 use super::{TriangleMesh, corners, face_box};
 use crate::aabb::BoxRay;
-use crate::bvh::{Tally, Visits};
 use crate::math::{gamma, unit_and_length};
+use crate::tree::{Tally, Visits, wins};
 use crate::{HitRecord, Interval, Ray};
 
 impl TriangleMesh {
@@ -119,9 +119,12 @@ impl TriangleMesh {
                         ray,
                         Interval::new(ray_t.min, *t_max),
                         position,
-                    ) && (c.t < *t_max
-                        || closest.is_none_or(|(best, _)| order[position] < order[best]))
-                        && accept(position, &c)
+                    ) && wins(
+                        c.t,
+                        order[position] as usize,
+                        *t_max,
+                        closest.map(|(best, _)| order[best] as usize),
+                    ) && accept(position, &c)
                     {
                         *t_max = c.t;
                         closest = Some((position, c));

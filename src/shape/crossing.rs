@@ -6,45 +6,8 @@
 use glam::{DVec2, DVec3};
 
 use super::plane::{Plane, PlaneHit};
-use crate::math::{Dd, UNIT_ROUNDOFF, gamma, ordinary_length, power_of_two_scale, sqrt};
+use crate::math::{Dd, UNIT_ROUNDOFF, gamma, l1, ordinary_length, power_of_two_scale, sqrt};
 use crate::{Interval, Ray};
-
-/// The constants of [`Plane::clearly_quick`], which bounds a crossing's error terms by
-/// multiples of `m = |q - o|_1 + |t| |d|_1` alone: `height` bounds the reach's numerator
-/// and its `t` term (`numerator + gamma(2) |t| c`, the tolerance left out) per unit of
-/// `m`; the region's reach from its centre, times the slack and over `|d|_1 s` (`s` the
-/// coordinate scale), is at most `rate m + fixed`.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub(super) struct Quick {
-    height: f64,
-    rate: f64,
-    fixed: f64,
-    /// `gamma(3) + e`: the slack is `c - slope d1`.
-    slope: f64,
-}
-
-impl Quick {
-    /// Derivation, against [`Plane::clearly`]'s terms (see [`Parts`]): `P = |p|_1` is at
-    /// most `(1 + gamma(8)) m` (`p = t d - (q - o)` rounds twice per coordinate, its
-    /// norm twice more, and the computed `m` is within `gamma(3)` of `a + b`), and
-    /// `|t| c <= (1 + gamma(5)) b` (`c = |n.d|` with `|n| = 1` to within rounding). So
-    /// the numerator with its `t` term is at most `(gamma(4) + gamma(3) + 2 e)` of `m`,
-    /// and `world` at most `gamma(6) m + frame_reach + tolerance`; `height` is the first,
-    /// grown by `1 + gamma(8)`. `clearly` asks `(dist - fixed') slack > rate'` with
-    /// `rate' = 2 (1 + gamma(10)) d1 s (height m + T)` and a term `2 world s slack` in
-    /// `fixed'`, where `slack <= c <= (1 + gamma(10)) d1`: both fit in
-    /// `2 (1 + gamma(10)) d1 s ((height + gamma(6)) m + frame_reach + 2 T)`.
-    pub(super) fn new(frame_error: f64, frame_reach: f64, tolerance: f64) -> Self {
-        let height = (gamma(4) + gamma(3) + 2.0 * frame_error) * (1.0 + gamma(8));
-        let grow = 2.0 * (1.0 + gamma(10));
-        Self {
-            height,
-            rate: grow * (height + gamma(6)),
-            fixed: grow * (frame_reach + 2.0 * tolerance),
-            slope: gamma(3) + frame_error,
-        }
-    }
-}
 
 /// What [`Plane::crossing`] found: a crossing clearly inside a shape that fills its
 /// rectangle (a hit, with no region computed), one the quick test left undecided (for
@@ -632,15 +595,10 @@ fn beyond(p: &Parts, t: f64, min: f64) -> bool {
     (t - min) * p.slack >= 2.0 * (p.numerator + gamma(2) * t.abs() * p.c)
 }
 
-/// `|v|_1`.
-#[inline(always)]
-pub(super) fn l1(v: DVec3) -> f64 {
-    v.abs().element_sum()
-}
-
 #[cfg(test)]
 mod tests {
-    use super::{Clearly, Plane, beyond, l1};
+    use super::{Clearly, Plane, beyond};
+    use crate::math::l1;
     use crate::{Interval, Ray};
     use glam::{DVec2, DVec3};
 

@@ -4,8 +4,7 @@
 
 use glam::{DVec2, DVec3};
 
-use super::crossing::{Quick, l1};
-use crate::math::{UNIT_ROUNDOFF, gamma, unit_and_length};
+use crate::math::{UNIT_ROUNDOFF, gamma, l1, unit_and_length};
 use crate::{Aabb, GeometryError, HitRecord, Hittable, Interval, MaterialId, Ray};
 
 /// The plane's [`tolerance`](Plane::tolerance), relative to its corners' magnitude `M`:
@@ -329,5 +328,42 @@ impl Hittable for Plane {
         min[axis] = self.q[axis];
         max[axis] = self.q[axis];
         Aabb::new(min, max)
+    }
+}
+
+/// The constants of [`Plane::clearly_quick`], which bounds a crossing's error terms by
+/// multiples of `m = |q - o|_1 + |t| |d|_1` alone: `height` bounds the reach's numerator
+/// and its `t` term (`numerator + gamma(2) |t| c`, the tolerance left out) per unit of
+/// `m`; the region's reach from its centre, times the slack and over `|d|_1 s` (`s` the
+/// coordinate scale), is at most `rate m + fixed`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct Quick {
+    pub(super) height: f64,
+    pub(super) rate: f64,
+    pub(super) fixed: f64,
+    /// `gamma(3) + e`: the slack is `c - slope d1`.
+    pub(super) slope: f64,
+}
+
+impl Quick {
+    /// Derivation, against [`Plane::clearly`]'s terms (see [`Parts`](super::crossing::Parts)): `P = |p|_1` is at
+    /// most `(1 + gamma(8)) m` (`p = t d - (q - o)` rounds twice per coordinate, its
+    /// norm twice more, and the computed `m` is within `gamma(3)` of `a + b`), and
+    /// `|t| c <= (1 + gamma(5)) b` (`c = |n.d|` with `|n| = 1` to within rounding). So
+    /// the numerator with its `t` term is at most `(gamma(4) + gamma(3) + 2 e)` of `m`,
+    /// and `world` at most `gamma(6) m + frame_reach + tolerance`; `height` is the first,
+    /// grown by `1 + gamma(8)`. `clearly` asks `(dist - fixed') slack > rate'` with
+    /// `rate' = 2 (1 + gamma(10)) d1 s (height m + T)` and a term `2 world s slack` in
+    /// `fixed'`, where `slack <= c <= (1 + gamma(10)) d1`: both fit in
+    /// `2 (1 + gamma(10)) d1 s ((height + gamma(6)) m + frame_reach + 2 T)`.
+    pub(super) fn new(frame_error: f64, frame_reach: f64, tolerance: f64) -> Self {
+        let height = (gamma(4) + gamma(3) + 2.0 * frame_error) * (1.0 + gamma(8));
+        let grow = 2.0 * (1.0 + gamma(10));
+        Self {
+            height,
+            rate: grow * (height + gamma(6)),
+            fixed: grow * (frame_reach + 2.0 * tolerance),
+            slope: gamma(3) + frame_error,
+        }
     }
 }

@@ -14,6 +14,7 @@ use glam::{DVec2, DVec3};
 use build::{Prim, build};
 use cluster::Cluster;
 
+use crate::tree::wins;
 use crate::{
     Aabb, GeometryError, HitRecord, Hittable, Interval, LightSample, PdfHittable, Quad, Ray,
     ShadingContext, Triangle, TriangleMesh,
@@ -272,10 +273,7 @@ impl<T: PdfHittable> Hittable for LightTree<T> {
             if node.leaf {
                 let i = node.index as usize;
                 if let Some(hit) = self.lights[i].hit(ray, reach) {
-                    let better = best
-                        .as_ref()
-                        .is_none_or(|(j, b)| hit.t < b.t || (hit.t == b.t && i < *j));
-                    if better {
+                    if wins(hit.t, i, reach.max, best.as_ref().map(|(j, _)| *j)) {
                         best = Some((i, hit));
                     }
                 }

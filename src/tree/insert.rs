@@ -17,7 +17,7 @@ impl Tree {
     /// rounding and compactness grown to cover them; `None` where `b` is not bounded or
     /// lies past `f32`'s range from the origin (such an object is tested on every ray). A
     /// tree without nodes takes `b`'s centre as its origin first.
-    pub(super) fn lane_bounds(&mut self, b: &Aabb) -> Option<Bounds> {
+    pub(crate) fn lane_bounds(&mut self, b: &Aabb) -> Option<Bounds> {
         if !b.is_bounded() {
             return None;
         }
@@ -31,7 +31,7 @@ impl Tree {
     }
 
     /// The first position and count of the leaf `node * WIDTH + lane`.
-    pub(super) fn lane(&self, leaf: u32) -> (usize, usize) {
+    pub(crate) fn lane(&self, leaf: u32) -> (usize, usize) {
         let (n, k) = (leaf as usize / WIDTH, leaf as usize % WIDTH);
         (
             self.nodes[n].index[k] as usize,
@@ -40,7 +40,7 @@ impl Tree {
     }
 
     /// Takes the last position off a leaf; a leaf left with none becomes an unused lane.
-    pub(super) fn shrink(&mut self, leaf: u32) {
+    pub(crate) fn shrink(&mut self, leaf: u32) {
         self.in_order = false;
         let (n, k) = (leaf as usize / WIDTH, leaf as usize % WIDTH);
         let node = &mut self.nodes[n];
@@ -51,7 +51,7 @@ impl Tree {
     }
 
     /// Moves a leaf of one object to position `to`.
-    pub(super) fn move_leaf(&mut self, leaf: u32, to: u32) {
+    pub(crate) fn move_leaf(&mut self, leaf: u32, to: u32) {
         self.in_order = false;
         let (n, k) = (leaf as usize / WIDTH, leaf as usize % WIDTH);
         self.nodes[n].index[k] = to;
@@ -66,7 +66,7 @@ impl Tree {
     /// bounding volume hierarchies"), settling for the best found after [`SEARCH`] nodes.
     /// Keeps `lineage` up to date. `None` where no place lies within the deepest tree the
     /// traversal's stack holds (nothing is changed: the caller rebuilds).
-    pub(super) fn place(&mut self, lane: Lane, lineage: Option<&mut Lineage>) -> Option<Placed> {
+    pub(crate) fn place(&mut self, lane: Lane, lineage: Option<&mut Lineage>) -> Option<Placed> {
         self.in_order = false;
         if self.nodes.is_empty() {
             self.nodes.push(empty_node());
@@ -134,7 +134,7 @@ impl Tree {
 
     /// The search of [`Tree::place`]: the nodes it visited, the visit of the node to place
     /// `lane` in, and where in it.
-    pub(super) fn best_spot(
+    pub(crate) fn best_spot(
         &self,
         lane: &Lane,
         lineage: Option<&Lineage>,
@@ -213,7 +213,7 @@ impl Tree {
     /// removal leaves them as they were); a lane whose node has no lane in use any more
     /// becomes unused, and its node spare. Returns the box of node `n` and its height (1
     /// for a node of leaves only), `None` if it holds nothing.
-    pub(super) fn tighten(&mut self, n: usize) -> Option<(Bounds, usize)> {
+    pub(crate) fn tighten(&mut self, n: usize) -> Option<(Bounds, usize)> {
         let mut all: Option<(Bounds, usize)> = None;
         for k in 0..WIDTH {
             let node = &self.nodes[n];
@@ -244,27 +244,27 @@ impl Tree {
 }
 
 /// Where [`Tree::place`] put a lane.
-pub(super) struct Placed {
+pub(crate) struct Placed {
     /// The lane it took, as `node * WIDTH + lane`.
-    pub(super) lane: u32,
+    pub(crate) lane: u32,
     /// Where it was paired with what a lane held: that (now in lane 0 of the new node),
     /// and the new node.
-    pub(super) pair: Option<(Lane, u32)>,
+    pub(crate) pair: Option<(Lane, u32)>,
 }
 
 /// For each node, the lane that leads to it (as `node * WIDTH + lane`; [`ROOT`] for the
 /// root and for nodes no lane leads to) and its height (the levels of nodes from it
 /// down; at least that, as lanes leave), kept by [`Bvh::optimize`] as it moves lanes.
-pub(super) struct Lineage {
-    pub(super) up: Vec<u32>,
-    pub(super) height: Vec<u8>,
+pub(crate) struct Lineage {
+    pub(crate) up: Vec<u32>,
+    pub(crate) height: Vec<u8>,
 }
 
 impl Lineage {
     /// Records that [`Tree::place`] put `lane` in lane `k` of node `n` (of `nodes` in all),
     /// as `placed` says: the lanes that now lead to moved and new nodes, and the heights
     /// above them.
-    pub(super) fn placed(
+    pub(crate) fn placed(
         &mut self,
         nodes: usize,
         n: usize,
@@ -304,16 +304,16 @@ impl Lineage {
 /// What a lane holds: `count` objects from position `index` on, or (`count` 0) the node
 /// `index`, with its bounds and the levels of nodes below it (0 for a leaf).
 #[derive(Clone, Copy, Debug)]
-pub(super) struct Lane {
-    pub(super) index: u32,
-    pub(super) count: u32,
-    pub(super) bounds: Bounds,
-    pub(super) height: usize,
+pub(crate) struct Lane {
+    pub(crate) index: u32,
+    pub(crate) count: u32,
+    pub(crate) bounds: Bounds,
+    pub(crate) height: usize,
 }
 
 impl Lane {
     /// A leaf of one object.
-    pub(super) fn leaf(position: usize, bounds: Bounds) -> Self {
+    pub(crate) fn leaf(position: usize, bounds: Bounds) -> Self {
         Self {
             index: position as u32,
             count: 1,
@@ -324,7 +324,7 @@ impl Lane {
 
     /// What the surface area heuristic weighs the lane's area by: its objects' tests, or
     /// a node's visit.
-    pub(super) fn weight(&self, traversal_cost: f64) -> f64 {
+    pub(crate) fn weight(&self, traversal_cost: f64) -> f64 {
         if self.count > 0 {
             f64::from(self.count)
         } else {
@@ -336,31 +336,31 @@ impl Lane {
 /// How many nodes [`Tree::place`]'s search looks into before it settles for the best place
 /// found: enough for the searches we measured (a few dozen nodes), a bound for scenes where
 /// every box holds every other (objects all in one point) and no branch can be cut.
-pub(super) const SEARCH: usize = 256;
+pub(crate) const SEARCH: usize = 256;
 
 /// A node [`Tree::place`]'s search reached: which, at what level, and by which lane of
 /// which earlier visit.
 #[derive(Clone, Copy, Debug)]
-pub(super) struct Visit {
-    pub(super) node: u32,
-    pub(super) level: u32,
-    pub(super) from: u32,
-    pub(super) lane: u8,
+pub(crate) struct Visit {
+    pub(crate) node: u32,
+    pub(crate) level: u32,
+    pub(crate) from: u32,
+    pub(crate) lane: u8,
 }
 
 /// The root's visit comes from no other.
-pub(super) const ROOT: u32 = u32::MAX;
+pub(crate) const ROOT: u32 = u32::MAX;
 
 /// Where in a node [`Tree::place`] puts a lane.
 #[derive(Clone, Copy, Debug)]
-pub(super) enum Spot {
+pub(crate) enum Spot {
     /// In this unused lane.
     Free(usize),
     /// With what this lane holds (of the height given), in a new node in its place.
     Pair(usize, usize),
 }
 
-pub(super) fn set_lane(node: &mut Node, k: usize, lane: &Lane) {
+pub(crate) fn set_lane(node: &mut Node, k: usize, lane: &Lane) {
     node.index[k] = lane.index;
     node.count[k] = lane.count;
     set_bounds(node, k, lane.bounds);

@@ -2,7 +2,7 @@
 
 use alloc::vec::Vec;
 
-use super::build::Box3;
+use super::node::Box3;
 use super::node::Node;
 use glam::Vec4;
 

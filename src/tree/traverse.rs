@@ -5,11 +5,11 @@
 //! crate's one box test, so that a node never misses a ray its shapes' boxes take.
 
 use super::node::Node;
-use super::{Bvh, MAX_DEPTH, Tree, Visits, WIDTH};
+use super::{MAX_DEPTH, Tally, Tree, WIDTH};
 use glam::{DVec3, Vec3};
 
 use crate::aabb::{BoxRay, slab_spans};
-use crate::{Hittable, Interval, Ray};
+use crate::{Interval, Ray};
 
 /// Where the ray enters each child within `ray_t` (`+inf`: it misses), by the crate's one
 /// box test, on the world-space bounds `origin + offset` (in `f64`, as the build rounded
@@ -240,58 +240,6 @@ fn entered_bits(t: &[f32; WIDTH]) -> u32 {
     bits
 }
 
-/// What a query counts: the nodes whose children's boxes it tests, and the objects it
-/// tests. `()` counts nothing (and costs nothing); [`Visits`] counts.
-pub(crate) trait Tally {
-    fn node(&mut self);
-    fn tests(&mut self, count: u32);
-}
-
-impl Tally for () {
-    #[inline(always)]
-    fn node(&mut self) {}
-    #[inline(always)]
-    fn tests(&mut self, _: u32) {}
-}
-
-impl Tally for Visits {
-    #[inline(always)]
-    fn node(&mut self) {
-        self.nodes += 1;
-    }
-    #[inline(always)]
-    fn tests(&mut self, count: u32) {
-        self.tests += count;
-    }
-}
-
-impl<T: Hittable> Bvh<T> {
-    /// Offers `visit` the unbounded objects, then every leaf whose box the ray enters
-    /// within `[ray_t.min, *t_max]`, nearer child first where `NEAREST`. `visit` gets a
-    /// run of objects, the position of the first in `self.objects`, and `t_max`, which it
-    /// lowers as it finds hits (later boxes are culled against it); it returns `true` to
-    /// stop.
-    #[inline(always)]
-    pub(super) fn walk<const NEAREST: bool>(
-        &self,
-        ray: &Ray,
-        ray_t: Interval,
-        t_max: &mut f64,
-        tally: &mut impl Tally,
-        mut visit: impl FnMut(&[T], usize, &mut f64) -> bool,
-    ) {
-        let objects = &self.objects;
-        self.tree.walk::<NEAREST>(
-            ray,
-            ray_t,
-            t_max,
-            tally,
-            #[inline(always)]
-            |first, count, t_max| visit(&objects[first..first + count], first, t_max),
-        );
-    }
-}
-
 impl Tree {
     /// Offers `visit` the unbounded objects, then every leaf whose box the ray enters
     /// within `[ray_t.min, *t_max]`, as a run of positions in the tree's order (first,
@@ -423,7 +371,7 @@ impl Tree {
 #[cfg(test)]
 mod tests {
     use super::{BoxRay, Lanes, Tree, entries};
-    use crate::bvh::build::Shape;
+    use crate::tree::Shape;
     use crate::{Aabb, Interval, Ray};
     use glam::DVec3;
     use proptest::prelude::*;

@@ -2,7 +2,7 @@
 //! origin, rounded outward, and how a box becomes such offsets (and what that rounding
 //! costs the traversal's bounds).
 
-use glam::DVec3;
+use glam::{DVec3, Vec4};
 
 use super::WIDTH;
 use crate::Aabb;
@@ -44,9 +44,44 @@ impl Node {
 
 /// Half the surface area of a box (0 if it is empty), in `f64`.
 pub(super) fn half_area((min, max): &Bounds) -> f64 {
-    let d = DVec3::from_array([0, 1, 2].map(|a| f64::from(max[a]) - f64::from(min[a])))
-        .max(DVec3::ZERO);
+    surface(
+        DVec3::from_array([0, 1, 2].map(|a| f64::from(max[a]) - f64::from(min[a])))
+            .max(DVec3::ZERO),
+    )
+}
+
+/// Half the surface area of a box of sides `d`: the surface area heuristic's weight (only
+/// ratios of areas matter).
+#[inline]
+fn surface(d: DVec3) -> f64 {
     d.x * d.y + d.y * d.z + d.z * d.x
+}
+
+/// A box in `f32`, as SIMD lanes `x, y, z, w` (`w` unused by the box).
+#[derive(Clone, Copy)]
+pub(super) struct Box3 {
+    pub(super) min: Vec4,
+    pub(super) max: Vec4,
+}
+
+impl Box3 {
+    pub(super) const EMPTY: Self = Self {
+        min: Vec4::INFINITY,
+        max: Vec4::NEG_INFINITY,
+    };
+
+    #[inline]
+    pub(super) fn grow(&mut self, min: Vec4, max: Vec4) {
+        self.min = self.min.min(min);
+        self.max = self.max.max(max);
+    }
+
+    /// Half the surface area (only ratios of areas matter); 0 for an empty box.
+    #[inline]
+    pub(super) fn half_area(&self) -> f64 {
+        let d = (self.max - self.min).max(Vec4::ZERO);
+        surface(DVec3::new(f64::from(d.x), f64::from(d.y), f64::from(d.z)))
+    }
 }
 
 /// Grows `rounding` and `compact` (as [`rounding`] gives them) to cover the finite bounds

@@ -9,7 +9,7 @@ use alloc::vec::Vec;
 use glam::{DVec3, Vec4};
 
 use super::collapse::{Child, Pair, collapse, pair, plan};
-use super::node::{Node, above, below, cover};
+use super::node::{Box3, Node, above, below, cover};
 use super::{MAX_DEPTH, Tree, WIDTH};
 use crate::Aabb;
 
@@ -22,34 +22,6 @@ const TRAVERSAL_COST: f64 = 1.0;
 /// From this depth on, splits are by count (median), which halves the objects: with at most
 /// 2^32 of them, 32 more levels reach single objects, within MAX_DEPTH.
 const MEDIAN_FROM_DEPTH: usize = MAX_DEPTH - 33;
-
-/// A box in `f32`, as SIMD lanes `x, y, z, w` (`w` unused by the box).
-#[derive(Clone, Copy)]
-pub(super) struct Box3 {
-    pub(super) min: Vec4,
-    pub(super) max: Vec4,
-}
-
-impl Box3 {
-    const EMPTY: Self = Self {
-        min: Vec4::INFINITY,
-        max: Vec4::NEG_INFINITY,
-    };
-
-    #[inline]
-    fn grow(&mut self, min: Vec4, max: Vec4) {
-        self.min = self.min.min(min);
-        self.max = self.max.max(max);
-    }
-
-    /// Half the surface area (only ratios of areas matter); 0 for an empty box.
-    #[inline]
-    pub(super) fn half_area(&self) -> f64 {
-        let d = (self.max - self.min).max(Vec4::ZERO);
-        let (x, y, z) = (f64::from(d.x), f64::from(d.y), f64::from(d.z));
-        x * y + y * z + z * x
-    }
-}
 
 /// One bounded object: its box, and in the `w` lane of `min` its position in the caller's
 /// list (as bits), so that a record is 32 bytes and moves as two SIMD registers. Those bits
@@ -518,7 +490,7 @@ fn partition(prims: &mut [Prim], left: impl Fn(&Prim) -> bool) -> usize {
 
 /// Reorders `objects` in place so that position `i` holds the object that was at
 /// `order[i]`, following each cycle of the permutation once.
-pub(super) fn permute<T>(objects: &mut [T], order: &[u32]) {
+pub(crate) fn permute<T>(objects: &mut [T], order: &[u32]) {
     let mut done = vec![false; objects.len()];
     for start in 0..objects.len() {
         let mut at = start;
@@ -530,6 +502,44 @@ pub(super) fn permute<T>(objects: &mut [T], order: &[u32]) {
             }
             objects.swap(at, from);
             at = from;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    /// The build reserves exactly the nodes its collapse makes (`collapse::plan`):
+    /// no slack is kept, and the vector never grows by doubling, for trees of every shape
+    /// the build makes, from one object to leaves of coinciding boxes.
+    #[test]
+    fn the_build_keeps_no_spare_nodes() {
+        use super::{Shape, Tree};
+        use crate::Aabb;
+        use glam::DVec3;
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let mut next = move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        for n in [1, 2, 3, 7, 8, 9, 64, 1000, 20_000] {
+            let boxes: Vec<Aabb> = (0..n)
+                .map(|i| {
+                    // Random boxes, and every eleventh at the same place (where the build
+                    // splits by count).
+                    let c = if i % 11 == 0 {
+                        DVec3::splat(0.5)
+                    } else {
+                        DVec3::new(next(), next(), next()) * 100.0
+                    };
+                    Aabb::new(c, c + DVec3::splat(next()))
+                })
+                .collect();
+            for shape in [Shape::OBJECTS, crate::mesh::MESH_SHAPE] {
+                let (tree, _) = Tree::build(n, |i| boxes[i], shape, false);
+                assert_eq!(tree.nodes.capacity(), tree.nodes.len(), "{n} boxes");
+            }
         }
     }
 }

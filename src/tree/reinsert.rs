@@ -11,7 +11,7 @@ impl Tree {
     /// The lanes (leaves and subtrees) whose nodes' boxes shrink most without them (in
     /// surface area), the `share` of all lanes in use at most, worst first; only those
     /// whose node does shrink.
-    pub(super) fn worst_lanes(&self, share: f64) -> Vec<u32> {
+    pub(crate) fn worst_lanes(&self, share: f64) -> Vec<u32> {
         let lanes = self
             .nodes
             .iter()
@@ -47,13 +47,13 @@ impl Tree {
     }
 
     /// What lane `node * WIDTH + lane` holds: its index and count.
-    pub(super) fn holds(&self, id: u32) -> (u32, u32) {
+    pub(crate) fn holds(&self, id: u32) -> (u32, u32) {
         let (n, k) = (id as usize / WIDTH, id as usize % WIDTH);
         (self.nodes[n].index[k], self.nodes[n].count[k])
     }
 
     /// What [`Bvh::optimize`] keeps as it moves lanes: see [`Lineage`].
-    pub(super) fn lineage(&self) -> Lineage {
+    pub(crate) fn lineage(&self) -> Lineage {
         let mut lineage = Lineage {
             up: alloc::vec![ROOT; self.nodes.len()],
             height: alloc::vec![0; self.nodes.len()],
@@ -71,7 +71,7 @@ impl Tree {
 
     /// Writes the height of node `n` and of every node under it into `heights`; returns
     /// `n`'s.
-    pub(super) fn heights(&self, n: usize, heights: &mut [u8]) -> u8 {
+    pub(crate) fn heights(&self, n: usize, heights: &mut [u8]) -> u8 {
         let node = &self.nodes[n];
         let below = (0..WIDTH)
             .filter(|&k| node.count[k] == 0 && node.index[k] != 0)
@@ -85,7 +85,7 @@ impl Tree {
     /// Takes lane `id` (`node * WIDTH + lane`) out of its node, and shrinks the boxes above
     /// it to what they still hold (a node left empty is spare, and no lane leads to it). A
     /// subtree's nodes stay where they are, reached from nowhere until placed.
-    pub(super) fn take(&mut self, id: u32, lineage: &mut Lineage) -> Lane {
+    pub(crate) fn take(&mut self, id: u32, lineage: &mut Lineage) -> Lane {
         self.in_order = false;
         let (mut n, k) = (id as usize / WIDTH, id as usize % WIDTH);
         let node = &mut self.nodes[n];
