@@ -205,3 +205,76 @@ macro_rules! forward_through {
 forward_through!(Box<T>);
 forward_through!(Arc<T>);
 forward_through!(&T);
+
+// The methods of the values below that ask an object: here, with the traits, so that the
+// values (`record.rs`, `sample.rs`) do not depend on them.
+
+impl Made {
+    /// The record of `found`, which `object`'s [`find`](crate::Hittable::find) returned
+    /// for `ray` and `ray_t` with this `Made` (or for `ray_t` with a larger `max`): the
+    /// record kept here where `found` is made, else `object`'s
+    /// [`record`](crate::Hittable::record). `None` where the record cannot be made (its
+    /// point past f64's range).
+    #[inline]
+    pub fn record<T: Hittable + ?Sized>(
+        &self,
+        object: &T,
+        ray: &Ray,
+        ray_t: Interval,
+        found: &Found,
+    ) -> Option<HitRecord> {
+        if found.is_made() {
+            Some(*self.kept())
+        } else {
+            object.record(ray, ray_t, found)
+        }
+    }
+}
+
+impl LightSample {
+    /// The sample along `direction` from `at`: the first surface of `light` there, and the
+    /// light's density of the direction. `None` where the direction finds no surface of
+    /// the light (a zero direction, a sample rounding aimed past an edge) or has density 0.
+    ///
+    /// What [`PdfHittable::sample_light`] returns for a direction its sampler drew; a light
+    /// that draws directions its own way (as [`LightTree`](crate::LightTree) does, by the
+    /// context's normal) ends with it.
+    #[must_use]
+    pub fn along<L: PdfHittable + ?Sized>(
+        light: &L,
+        at: &ShadingContext,
+        direction: DVec3,
+    ) -> Option<Self> {
+        Self::along_with(light, at, direction, |d| light.light_pdf(at, d))
+    }
+
+    /// [`LightSample::along`] with the density of the direction (as it is kept) from `pdf`.
+    pub(crate) fn along_with<L: PdfHittable + ?Sized>(
+        light: &L,
+        at: &ShadingContext,
+        direction: DVec3,
+        pdf: impl FnOnce(DVec3) -> f64,
+    ) -> Option<Self> {
+        // Unit directions (what hitkit's lights return) are kept bit for bit, so that the
+        // density is the one of the very direction the sampler tested to reach the light.
+        let length = crate::math::length(direction);
+        let direction = if (length - 1.0).abs() <= 4.0 * f64::EPSILON {
+            direction
+        } else {
+            direction / length
+        };
+        let ray = Ray::new(at.point, direction);
+        if !ray.is_valid() {
+            return None;
+        }
+        let record = light.hit(&ray, Interval::FORWARD)?;
+        let pdf = pdf(direction);
+        let distance = record.t;
+        (pdf > 0.0 && pdf.is_finite() && distance.is_finite()).then_some(Self {
+            direction,
+            distance,
+            record,
+            pdf,
+        })
+    }
+}

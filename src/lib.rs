@@ -174,6 +174,7 @@ mod math;
 mod mesh;
 mod ray;
 mod record;
+mod sample;
 mod shape;
 mod simd;
 mod tree;
@@ -192,15 +193,15 @@ pub use light::RandomDirection;
 #[cfg(feature = "rand09")]
 #[cfg_attr(docsrs, doc(cfg(feature = "rand09")))]
 pub use light::RandomDirection09;
-pub use light::{
-    Emission, LightSample, LightTree, Mixture, SampleInterior, Sampling, ShadingContext,
-};
+pub use light::{Emission, LightTree, Mixture};
 pub use masked::Masked;
 pub use mesh::{Candidate, Face, Filtered, TriangleMesh};
 pub use ray::Ray;
 pub use record::{HitRecord, MaterialId};
+pub use sample::{LightSample, ShadingContext};
 pub use shape::{
-    Cuboid, Disk, Exact, Interior, Parallelogram, Plane, PlaneHit, Quad, Ring, Sphere, Triangle,
+    Cuboid, Disk, Exact, Interior, Parallelogram, Plane, PlaneHit, Quad, Ring, SampleInterior,
+    Sampling, Sphere, Triangle,
 };
 pub use tree::{TreeCost, Visits};
 
@@ -243,9 +244,8 @@ pub type Made = record::Made;
 /// [own shapes](guide::own_shapes).
 pub mod custom {
     pub use crate::instance::Frame;
-    pub use crate::light::Polygon;
     pub use crate::record::{Found, Made};
-    pub use crate::shape::{CrossingRegion, Meets};
+    pub use crate::shape::{CrossingRegion, Meets, Polygon};
 }
 
 /// The README's code blocks, run as doctests.

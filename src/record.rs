@@ -152,24 +152,10 @@ impl Made {
         }
     }
 
-    /// The record of `found`, which `object`'s [`find`](crate::Hittable::find) returned
-    /// for `ray` and `ray_t` with this `Made` (or for `ray_t` with a larger `max`): the
-    /// record kept here where `found` is made, else `object`'s
-    /// [`record`](crate::Hittable::record). `None` where the record cannot be made (its
-    /// point past f64's range).
+    /// The record kept.
     #[inline]
-    pub fn record<T: crate::Hittable + ?Sized>(
-        &self,
-        object: &T,
-        ray: &Ray,
-        ray_t: Interval,
-        found: &Found,
-    ) -> Option<HitRecord> {
-        if found.made {
-            Some(self.0)
-        } else {
-            object.record(ray, ray_t, found)
-        }
+    pub(crate) fn kept(&self) -> &HitRecord {
+        &self.0
     }
 
     /// The record kept, to be changed in place (an instance moves it to the world).

@@ -9,7 +9,8 @@
 //! A module's root file (`mod.rs`, `lib.rs`) and the files below it are one module: a part
 //! implementing its parent's type, and the parent calling into its parts, is how Rust lays
 //! out a module, so edges between a root and its own descendants are not counted. Code
-//! under `#[cfg(test)]` is not counted either (a unit test may reach anywhere).
+//! under `#[cfg(test)]` is not counted either (a unit test may reach anywhere), nor
+//! `#[cfg(doc)]` imports (names for the docs' links).
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::fs;
@@ -39,7 +40,8 @@ fn modules(src: &Path) -> BTreeMap<Vec<String>, PathBuf> {
     out
 }
 
-/// The code of a file without comments, string literals and `#[cfg(test)]` items.
+/// The code of a file without comments, string literals and `#[cfg(test)]` and
+/// `#[cfg(doc)]` items.
 fn code(text: &str) -> String {
     let mut out = String::with_capacity(text.len());
     let bytes = text.as_bytes();
@@ -61,10 +63,13 @@ fn code(text: &str) -> String {
             }
             i += 1;
             out.push_str("\"\"");
-        } else if text[i..].starts_with("#[cfg(test)]") {
+        } else if let Some(attribute) = ["#[cfg(test)]", "#[cfg(doc)]"]
+            .into_iter()
+            .find(|a| text[i..].starts_with(a))
+        {
             // Skip the attribute and the item it guards: up to its matching close brace, or
             // its semicolon when one comes first.
-            i += "#[cfg(test)]".len();
+            i += attribute.len();
             let mut depth = 0;
             while i < bytes.len() {
                 match bytes[i] {

@@ -7,8 +7,8 @@ use glam::{DMat3, DVec3};
 
 use crate::GeometryError;
 use crate::HitRecord;
-use crate::light::direction_of;
 use crate::math::{gamma, power_of_two_scale};
+use crate::sample::direction_of;
 
 /// What a [`Transformed`](crate::Transformed) instance's linear part does to the object's
 /// rays, hits and densities: [`Rigid`] or [`Affine`]. Sealed: hitkit implements it, a

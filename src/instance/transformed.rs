@@ -5,9 +5,9 @@ use glam::{BVec3, DAffine3, DMat3, DQuat, DVec2, DVec3, DVec4};
 
 use super::frame::{Affine, Frame, Rigid};
 use crate::instance;
-use crate::light::{reaching, toward_middle};
 use crate::math::{direction_scale, gamma, ordinary, sin_cos};
 use crate::record::{Found, Made};
+use crate::sample::{reaching, toward_middle};
 use crate::{Aabb, GeometryError, HitRecord, Hittable, Interval, PdfHittable, Ray};
 
 /// `object` moved: rotated about the origin (or any invertible linear map, see

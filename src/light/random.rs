@@ -117,7 +117,7 @@ fn drawn<L: PdfHittable + ?Sized>(
     origin: DVec3,
     mut next: impl FnMut() -> u64,
 ) -> (DVec3, f64) {
-    let u = DVec2::new(unit(next()), unit(next()));
+    let u = DVec2::new(uniform(next()), uniform(next()));
     let direction = light.sample_direction(origin, u);
     (direction, light.pdf_value(origin, direction))
 }
@@ -128,12 +128,12 @@ fn lit<L: PdfHittable + ?Sized>(
     at: &ShadingContext,
     mut next: impl FnMut() -> u64,
 ) -> Option<LightSample> {
-    let u = DVec2::new(unit(next()), unit(next()));
+    let u = DVec2::new(uniform(next()), uniform(next()));
     light.sample_light(at, u)
 }
 
 /// The top 53 bits of `bits` as a uniform number of `[0, 1)`.
 #[inline]
-fn unit(bits: u64) -> f64 {
+fn uniform(bits: u64) -> f64 {
     (bits >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
 }

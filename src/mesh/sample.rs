@@ -4,8 +4,8 @@ use glam::{DVec2, DVec3};
 
 use super::intersect::Sheared;
 use super::{AREA_BLOCK, TriangleMesh, face_area};
-use crate::light::{reaching, toward_middle, unit};
 use crate::math::{direction_scale, sqrt, unit_and_length};
+use crate::sample::{reaching, toward_middle, unit_direction};
 use crate::{Interval, PdfHittable, Ray};
 
 /// Sampled uniformly by area: a face with probability in proportion to its area, then a
@@ -114,7 +114,7 @@ impl PdfHittable for TriangleMesh {
             let (b1, b2) = (1.0 - s, w.y * s);
             let toward = |k: f64| (k * p0 - k * origin) + (b1 * k * (p1 - p0) + b2 * k * (p2 - p0));
             let direction = toward(1.0);
-            unit(if direction.is_finite() {
+            unit_direction(if direction.is_finite() {
                 direction
             } else {
                 toward(0.25)

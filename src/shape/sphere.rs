@@ -6,9 +6,9 @@ use core::f64::consts::{PI, TAU};
 
 use glam::{DVec2, DVec3};
 
-use crate::light::{reaching, toward_middle};
 use crate::math::{acos, atan2, direction_scale, gamma, sin_cos, sqrt, unit_and_length};
 use crate::record::{Found, Made};
+use crate::sample::{reaching, toward_middle};
 use crate::{Aabb, GeometryError, HitRecord, Hittable, Interval, MaterialId, PdfHittable, Ray};
 
 /// A sphere: centre and radius. `uv` is `(phi / 2 pi, theta / pi)`, `phi` around the y axis

@@ -7,8 +7,8 @@ use core::f64::consts::PI;
 use glam::DVec3;
 
 use super::Emission;
-use crate::light::direction_of;
 use crate::math::{atan2, gamma, length, sin_cos, sqrt};
+use crate::sample::direction_of;
 use crate::{Aabb, GeometryError};
 
 /// What the importance knows of a set of lights.
@@ -92,8 +92,8 @@ impl Cluster {
         }
         let (axis, spread, two_sided) = match emission {
             Emission::Everywhere => (DVec3::Z, PI, false),
-            Emission::OneSide(normal) => (unit(normal)?, 0.0, false),
-            Emission::BothSides(normal) => (unit(normal)?, 0.0, true),
+            Emission::OneSide(normal) => (emission_normal(normal)?, 0.0, false),
+            Emission::BothSides(normal) => (emission_normal(normal)?, 0.0, true),
         };
         Ok(Self::with_spread(bbox, power, axis, spread, two_sided))
     }
@@ -235,7 +235,7 @@ impl Cluster {
 
 /// An emission normal as a unit vector, or the reason it cannot be one: any finite,
 /// non-zero vector is a normal, however long or short.
-pub(super) fn unit(normal: DVec3) -> Result<DVec3, GeometryError> {
+pub(super) fn emission_normal(normal: DVec3) -> Result<DVec3, GeometryError> {
     if !normal.is_finite() {
         return Err(GeometryError::NonFinite {
             what: "emission normal",

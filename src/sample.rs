@@ -2,9 +2,11 @@
 //! on a light as seen from there ([`LightSample`]), which
 //! [`HitRecord::spawn_ray_to`](crate::HitRecord::spawn_ray_to) turns into a shadow ray.
 
-use glam::DVec3;
+use glam::{DVec2, DVec3};
 
-use crate::{HitRecord, Interval, PdfHittable, Ray};
+use crate::HitRecord;
+#[cfg(doc)]
+use crate::PdfHittable;
 
 /// Where a renderer gathers light: a point and, on a surface, its normal (pbrt-v4's
 /// `LightSampleContext`). Every light sampler takes one; a [`LightTree`](crate::LightTree)
@@ -52,7 +54,7 @@ impl ShadingContext {
     /// The normal as a unit vector, where it is one.
     #[inline]
     pub(crate) fn unit_normal(&self) -> Option<DVec3> {
-        self.normal.and_then(crate::light::direction_of)
+        self.normal.and_then(direction_of)
     }
 }
 
@@ -97,50 +99,72 @@ pub struct LightSample {
     pub pdf: f64,
 }
 
-impl LightSample {
-    /// The sample along `direction` from `at`: the first surface of `light` there, and the
-    /// light's density of the direction. `None` where the direction finds no surface of
-    /// the light (a zero direction, a sample rounding aimed past an edge) or has density 0.
-    ///
-    /// What [`PdfHittable::sample_light`] returns for a direction its sampler drew; a light
-    /// that draws directions its own way (as [`LightTree`](crate::LightTree) does, by the
-    /// context's normal) ends with it.
-    #[must_use]
-    pub fn along<L: PdfHittable + ?Sized>(
-        light: &L,
-        at: &ShadingContext,
-        direction: DVec3,
-    ) -> Option<Self> {
-        Self::along_with(light, at, direction, |d| light.light_pdf(at, d))
-    }
+/// How far a light's sampler retreats toward the middle of its shape, in turn, when a
+/// direction it drew does not reach the shape by the test its density goes by: the first
+/// (1, no retreat) is the sample itself, and for every `u` inside `[0, 1)^2` by more than
+/// rounding it is the one returned, so the distribution is unchanged but for the few
+/// directions that rounding aims just past an edge (a sampler's first point `(0, 0)`, a
+/// triangle's corner, a sphere's silhouette), which would have density 0 (the contract's
+/// clause 6). Each later factor moves the sample a larger share of the way in; the last
+/// (0) aims at the middle itself.
+const RETREAT: [f64; 6] = [
+    1.0,
+    1.0 - 1.0 / (1u64 << 40) as f64,
+    1.0 - 1.0 / (1u64 << 24) as f64,
+    1.0 - 1.0 / (1u64 << 12) as f64,
+    0.5,
+    0.0,
+];
 
-    /// [`LightSample::along`] with the density of the direction (as it is kept) from `pdf`.
-    pub(crate) fn along_with<L: PdfHittable + ?Sized>(
-        light: &L,
-        at: &ShadingContext,
-        direction: DVec3,
-        pdf: impl FnOnce(DVec3) -> f64,
-    ) -> Option<Self> {
-        // Unit directions (what hitkit's lights return) are kept bit for bit, so that the
-        // density is the one of the very direction the sampler tested to reach the light.
-        let length = crate::math::length(direction);
-        let direction = if (length - 1.0).abs() <= 4.0 * f64::EPSILON {
-            direction
-        } else {
-            direction / length
-        };
-        let ray = Ray::new(at.point, direction);
-        if !ray.is_valid() {
-            return None;
-        }
-        let record = light.hit(&ray, Interval::FORWARD)?;
-        let pdf = pdf(direction);
-        let distance = record.t;
-        (pdf > 0.0 && pdf.is_finite() && distance.is_finite()).then_some(Self {
-            direction,
-            distance,
-            record,
-            pdf,
-        })
+/// The first of `sample(k)`, for the factors `k` of [`RETREAT`], that `reaches`; the first
+/// sample if none does (a shape too small or far to aim at from `origin`, which has
+/// density 0 there in every direction).
+#[inline]
+pub(crate) fn reaching(
+    mut sample: impl FnMut(f64) -> DVec3,
+    reaches: impl Fn(DVec3) -> bool,
+) -> DVec3 {
+    let first = sample(RETREAT[0]);
+    if reaches(first) {
+        return first;
+    }
+    RETREAT[1..]
+        .iter()
+        .map(|&k| sample(k))
+        .find(|&d| reaches(d))
+        .unwrap_or(first)
+}
+
+/// `v` as a unit vector, for any finite, non-zero `v` (scaled first, so that its square
+/// neither over- nor underflows); `None` for a zero or non-finite one.
+pub(crate) fn direction_of(v: DVec3) -> Option<DVec3> {
+    let (unit, length) = crate::math::unit_and_length(v);
+    (length > 0.0 && unit.is_finite()).then_some(unit)
+}
+
+/// `d` as a unit vector (the zero vector as itself): what every light's
+/// `sample_direction` returns, tested for reaching the light after this rounding.
+#[inline]
+pub(crate) fn unit_direction(d: DVec3) -> DVec3 {
+    let squared = d.length_squared();
+    if squared.is_normal() && squared < f64::INFINITY {
+        // One division for the three components: within an ulp or two of `d / |d|`.
+        d * (1.0 / crate::math::sqrt(squared))
+    } else if d == DVec3::ZERO || !d.is_finite() {
+        d
+    } else {
+        // A length whose square over- or underflows: scaled first.
+        crate::math::unit_and_length(d).0
+    }
+}
+
+/// `u` moved toward the middle of the unit square by the factor `k` of [`RETREAT`]; `u`
+/// itself, bit for bit, for `k = 1`.
+#[inline]
+pub(crate) fn toward_middle(u: DVec2, k: f64) -> DVec2 {
+    if k == 1.0 {
+        u
+    } else {
+        DVec2::splat(0.5) + (u - DVec2::splat(0.5)) * k
     }
 }
