@@ -11,16 +11,14 @@ use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_m
 use hitkit::glam::DVec3;
 use hitkit::{Bvh, Hittable, Interval, Quad, Ray, Triangle, TriangleMesh};
 
-#[path = "../tests/support/scene.rs"]
-#[allow(dead_code)]
-mod scene;
+use hitkit_render::workloads;
 
 const SEED: u64 = 0x5eed;
 /// Rays traced per measured iteration.
 const RAYS: usize = 10_000;
 
 fn triangles(n: usize) -> Vec<Quad<Triangle>> {
-    scene::triangle_soup(n, SEED)
+    workloads::triangle_soup(n, SEED)
         .into_iter()
         .filter_map(|[a, b, c]| Quad::with_interior(a, b - a, c - a, Triangle).ok())
         .collect()
@@ -54,9 +52,9 @@ fn closest_hit(c: &mut Criterion) {
     group.throughput(Throughput::Elements(RAYS as u64));
     for n in [1_000, 100_000, 1_000_000] {
         let tris = triangles(n);
-        let bounds = scene::bounds(&scene::triangle_soup(n, SEED));
-        let incoherent = scene::random_rays(bounds, RAYS, SEED + 1);
-        let coherent = scene::camera_rays(bounds, 100);
+        let bounds = workloads::bounds(&workloads::triangle_soup(n, SEED));
+        let incoherent = workloads::random_rays(bounds, RAYS, SEED + 1);
+        let coherent = workloads::camera_rays(bounds, 100);
         let fixed = Bvh::new(tris.clone());
         let boxed: Bvh<Box<dyn Hittable>> = Bvh::new(
             tris.into_iter()
@@ -84,8 +82,8 @@ fn closest_hit(c: &mut Criterion) {
 /// and the same 1.28 million triangles moved one by one into one `TriangleMesh`. Prints the
 /// bytes each holds.
 fn instancing(c: &mut Criterion) {
-    let mut rng = scene::SplitMix::new(SEED);
-    let (instances, vertices, flat_faces) = scene::instances(3, 1000, 0.0, 60.0, &mut rng);
+    let mut rng = workloads::SplitMix::new(SEED);
+    let (instances, vertices, flat_faces) = workloads::instances(3, 1000, 0.0, 60.0, &mut rng);
     let shared = instances[0].object().clone();
     let instanced = Bvh::new(instances);
     let flat = TriangleMesh::new(&vertices, &flat_faces).unwrap();
@@ -95,8 +93,8 @@ fn instancing(c: &mut Criterion) {
         flat.heap_bytes()
     );
     let bounds = (DVec3::splat(-61.0), DVec3::splat(61.0));
-    let camera = scene::camera_rays(bounds, 100);
-    let random = scene::random_rays(bounds, RAYS, SEED + 1);
+    let camera = workloads::camera_rays(bounds, 100);
+    let random = workloads::random_rays(bounds, RAYS, SEED + 1);
     let mut group = c.benchmark_group("instancing");
     group.throughput(Throughput::Elements(RAYS as u64));
     for (kind, rays) in [("camera", &camera), ("random", &random)] {

@@ -6,12 +6,9 @@ use std::hint::black_box;
 
 use criterion::{Criterion, criterion_group, criterion_main};
 
-#[path = "../examples/common/mod.rs"]
-mod common;
-
-use common::Effects;
-use common::render::{Settings, render};
-use common::scenes::quads_scene;
+use hitkit_render::Effects;
+use hitkit_render::render::{Settings, render};
+use hitkit_render::scenes::quads_scene;
 
 fn effects(c: &mut Criterion) {
     let scene = quads_scene(64);

@@ -14,9 +14,7 @@ use std::time::Instant;
 use hitkit::glam::{DAffine3, DQuat, DVec3};
 use hitkit::{Hittable, Interval, Ray, Transformed, TriangleMesh};
 
-#[path = "../tests/support/scene.rs"]
-#[allow(dead_code)]
-mod scene;
+use hitkit_render::workloads;
 
 const ROUNDS: usize = 9;
 
@@ -46,7 +44,7 @@ fn alternate(scenes: &[&dyn Hittable], rays: &[Ray]) -> Vec<f64> {
 }
 
 fn main() {
-    let (unit, faces) = scene::icosphere(6);
+    let (unit, faces) = workloads::icosphere(6);
     let turn = DQuat::from_axis_angle(DVec3::new(1.0, 2.0, -0.5).normalize(), 0.7);
     let map = DAffine3::from_scale_rotation_translation(
         DVec3::new(3.1, 0.7, 1.3),
@@ -60,8 +58,8 @@ fn main() {
     let built = TriangleMesh::new(&mapped, &faces).unwrap();
     let bbox = built.bounding_box();
     let bounds = (bbox.min() - 1.0, bbox.max() + 1.0);
-    let mut rays = scene::camera_rays(bounds, 300);
-    rays.extend(scene::random_rays(bounds, 90_000, 7));
+    let mut rays = workloads::camera_rays(bounds, 300);
+    rays.extend(workloads::random_rays(bounds, 90_000, 7));
     assert_eq!(trace(&built, &rays), trace(&affine, &rays));
     let hitting: Vec<Ray> = rays
         .iter()

@@ -5,13 +5,11 @@
 //!
 //! `cargo run --release --example cornell` writes `cornell.png`; `-- --help` lists the options.
 
-mod common;
-
 use std::process::ExitCode;
 
-use common::cli::{Options, run};
-use common::scenes::cornell_scene;
 use hitkit::Sampling;
+use hitkit_render::cli::{Options, run};
+use hitkit_render::scenes::cornell_scene;
 
 fn main() -> ExitCode {
     let defaults = Options {

@@ -6,12 +6,10 @@
 //! `cargo run --release --example cornell_book` writes `cornell_book.png`; `-- --help` lists
 //! the options.
 
-mod common;
-
 use std::process::ExitCode;
 
-use common::cli::{Options, run};
-use common::scenes::cornell_book_scene;
+use hitkit_render::cli::{Options, run};
+use hitkit_render::scenes::cornell_book_scene;
 
 fn main() -> ExitCode {
     let defaults = Options {

@@ -6,8 +6,6 @@
 //! `cargo run --release --example deform` writes `deform-000.png` to `deform-011.png`;
 //! `-- --frames N`, `-- --obj PATH` (twist that mesh instead), `-- --help` for the rest.
 
-mod common;
-
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Instant;
@@ -16,10 +14,10 @@ use hitkit::glam::DVec3;
 use hitkit::{Aabb, Hittable, Interval, MaterialId, Quad, Ray, TriangleMesh};
 use indicatif::{ProgressBar, ProgressStyle};
 
-use common::cli::{Options, check_output, write_png};
-use common::render::render;
-use common::scenes::load_obj;
-use common::{Background, CameraSettings, Color, Material, Scene};
+use hitkit_render::cli::{Options, check_output, write_png};
+use hitkit_render::render::render;
+use hitkit_render::scenes::load_obj;
+use hitkit_render::{Background, CameraSettings, Color, Material, Scene};
 
 /// The most frames.
 const MAX_FRAMES: usize = 10_000;
@@ -137,7 +135,7 @@ fn main() -> ExitCode {
     };
     // `--frames N` and `--obj PATH` are this example's own; the rest go to the common ones.
     let (mut frames, mut obj, mut rest) = (12usize, None, Vec::new());
-    let mut args = common::cli::split_equals(std::env::args().skip(1)).into_iter();
+    let mut args = hitkit_render::cli::split_equals(std::env::args().skip(1)).into_iter();
     while let Some(arg) = args.next() {
         match arg.as_str() {
             "--frames" => match args.next().and_then(|v| v.parse().ok()) {

@@ -15,19 +15,14 @@
 //! per pixel at a time, in turn (the same seeds for each), until each has had `SECONDS` of
 //! rendering; it prints each one's mean squared error against the reference, at equal time.
 
-mod common;
-#[path = "../tests/support/scene.rs"]
-#[allow(dead_code)]
-mod support;
-
 use std::process::ExitCode;
 use std::time::{Duration, Instant};
 
-use common::cli::{Options, run_with};
-use common::render::{Rendered, luminance, render};
-use common::scenes::{Pick, cornell_pick, hall_scene};
-use common::{Color, Scene};
 use hitkit::Hittable;
+use hitkit_render::cli::{Options, run_with};
+use hitkit_render::render::{Rendered, luminance, render};
+use hitkit_render::scenes::{Pick, cornell_pick, hall_scene};
+use hitkit_render::{Color, Scene};
 
 const EXTRA: &str = "\n  \
 --lights WAY  how to pick a lamp: tree, power or uniform [default: tree]\n  \
@@ -110,7 +105,7 @@ fn main() -> ExitCode {
 
 /// The lamps of a scene: its emissive materials (each lamp has its own).
 fn lamps<W>(scene: &Scene<W>) -> usize {
-    let emits = |m: &&common::Material| matches!(m, common::Material::Light(_));
+    let emits = |m: &&hitkit_render::Material| matches!(m, hitkit_render::Material::Light(_));
     scene.materials.iter().filter(emits).count()
 }
 
@@ -161,7 +156,7 @@ fn compare_all(
     )?);
     println!(
         "{}, {}; {hall_width}x{} (hall) and {cornell_width}x{cornell_width} (Cornell box), up to {} bounces with Russian roulette; reference: the light tree at {reference} samples per pixel; each way rendered one sample per pixel at a time, in turn, until it had {:.0} s\n",
-        support::machine(),
+        hitkit_render::workloads::machine(),
         if options.threads == 0 {
             "a thread per core".to_string()
         } else {

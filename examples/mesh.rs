@@ -6,13 +6,11 @@
 //! `cargo run --release --example mesh -- --obj PATH` renders the mesh in the OBJ file at
 //! PATH instead (smooth where the file has vertex normals); `-- --help` lists the options.
 
-mod common;
-
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use common::cli::{Options, run_with};
-use common::scenes::{load_obj, mesh_scene};
+use hitkit_render::cli::{Options, run_with};
+use hitkit_render::scenes::{load_obj, mesh_scene};
 
 fn main() -> ExitCode {
     let defaults = Options {
@@ -26,7 +24,7 @@ fn main() -> ExitCode {
     };
     // `--obj PATH` is this example's own; the rest go to the common options.
     let (mut obj, mut rest) = (None, Vec::new());
-    let mut args = common::cli::split_equals(std::env::args().skip(1)).into_iter();
+    let mut args = hitkit_render::cli::split_equals(std::env::args().skip(1)).into_iter();
     while let Some(arg) = args.next() {
         if arg == "--obj" {
             match args.next() {

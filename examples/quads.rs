@@ -2,12 +2,10 @@
 //!
 //! `cargo run --release --example quads` writes `quads.png`; `-- --help` lists the options.
 
-mod common;
-
 use std::process::ExitCode;
 
-use common::cli::{Options, run};
-use common::scenes::quads_scene;
+use hitkit_render::cli::{Options, run};
+use hitkit_render::scenes::quads_scene;
 
 fn main() -> ExitCode {
     let defaults = Options {

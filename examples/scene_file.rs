@@ -9,17 +9,15 @@
 //! renders `scene_file.png`; `-- --scene PATH` renders another glTF file's meshes with the
 //! same camera and lamp handling; `-- --help` lists the rest.
 
-mod common;
-
 use std::path::PathBuf;
 use std::process::ExitCode;
 use std::sync::Arc;
 
-use common::cli::{Options, run_with};
-use common::{Background, CameraSettings, Color, Material, Scene};
 use hitkit::glam::{DQuat, DVec2, DVec3};
 use hitkit::load::{Alpha, GltfScene, load_gltf};
 use hitkit::{Bvh, Candidate, Filtered, Hittable, Masked, PdfHittable, Transformed};
+use hitkit_render::cli::{Options, run_with};
+use hitkit_render::{Background, CameraSettings, Color, Material, Scene};
 
 /// The camera's rays carry this bit alone; everything but a lamp has it.
 const CAMERA: u32 = 1;

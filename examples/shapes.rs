@@ -3,12 +3,10 @@
 //!
 //! `cargo run --release --example shapes` writes `shapes.png`; `-- --help` lists the options.
 
-mod common;
-
 use std::process::ExitCode;
 
-use common::cli::{Options, run};
-use common::scenes::shapes_scene;
+use hitkit_render::cli::{Options, run};
+use hitkit_render::scenes::shapes_scene;
 
 fn main() -> ExitCode {
     let defaults = Options {

@@ -1,12 +1,9 @@
 //! The examples' command line: absurd sizes and unwritable outputs are refused with an error
 //! that names them, before anything is rendered.
 
-#[path = "../examples/common/mod.rs"]
-mod common;
-
 use std::path::PathBuf;
 
-use common::cli::{MAX_SAMPLES, MAX_WIDTH, Options, check_output};
+use hitkit_render::cli::{MAX_SAMPLES, MAX_WIDTH, Options, check_output};
 
 fn defaults() -> Options {
     Options {
@@ -101,7 +98,7 @@ fn flags_with_equals_are_taken() {
         error.starts_with("--width") && error.contains("-5"),
         "{error}"
     );
-    let split = common::cli::split_equals(["--obj=a=b.obj".to_string(), "x=y".to_string()]);
+    let split = hitkit_render::cli::split_equals(["--obj=a=b.obj".to_string(), "x=y".to_string()]);
     assert_eq!(split, ["--obj", "a=b.obj", "x=y"]);
 }
 
@@ -114,12 +111,12 @@ fn obj_files_that_cannot_render_are_refused_saying_why() {
     std::fs::create_dir_all(&dir).unwrap();
     let missing = dir.join("missing.obj");
     let reason = std::fs::File::open(&missing).unwrap_err().to_string();
-    let error = common::scenes::load_obj(&missing).unwrap_err();
+    let error = hitkit_render::scenes::load_obj(&missing).unwrap_err();
     assert!(error.contains(&reason), "{error}");
 
     let flat = dir.join("flat.obj");
     std::fs::write(&flat, "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n").unwrap();
-    let error = common::scenes::load_obj(&flat).unwrap_err();
+    let error = hitkit_render::scenes::load_obj(&flat).unwrap_err();
     assert!(error.contains("degenerate"), "{error}");
     std::fs::remove_dir_all(&dir).unwrap();
 }

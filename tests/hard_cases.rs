@@ -1,7 +1,7 @@
 //! The hard cases: each test names the property it pins, builds the case at several scales
 //! and offsets (1e-6 to 1e12), and says in a comment what the book's formulation (`|n.d| <
 //! 1e-8`, `t = (D - n.o) / n.d`, `o + t d - q`, exact edge tests, `t_min = 0.001`, boxes
-//! padded by 0.0001) does on it. `cargo run --release --example accuracy` counts those
+//! padded by 0.0001) does on it. `cargo run --release -p hitkit-accuracy` counts those
 //! failures side by side with hitkit's.
 //!
 //! Rays that must hit are built so that, in exact arithmetic, they pass exactly through the

@@ -2,20 +2,18 @@
 //! no subtree twice: so a shape whose `hit` is random (the book's constant medium) reports
 //! the draw it made, and a fog is not biased toward its surface.
 
-#[path = "../examples/common/mod.rs"]
-mod common;
 mod support;
 
 use std::sync::Arc;
 use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
 
-use common::medium::ConstantMedium;
 use hitkit::custom::Made;
 use hitkit::glam::{DQuat, DVec3};
 use hitkit::{
     Aabb, Bvh, Cuboid, HitRecord, Hittable, Interval, MaterialId, Moving, Quad, Ray, Sphere,
     Transformed,
 };
+use hitkit_render::medium::ConstantMedium;
 use support::SplitMix;
 
 /// A shape that implements `hit` alone and counts how often it is asked.

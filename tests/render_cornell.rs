@@ -4,15 +4,13 @@
 //! less variance per sample. Russian roulette does not bias it either, on the book's own
 //! final scene (glass sphere and lamp both sampled as lights).
 
-#[path = "../examples/common/mod.rs"]
-mod common;
 mod support;
 
-use common::Effects;
-use common::render::{Settings, render};
-use common::scenes::{cornell_book_scene, cornell_scene};
 use hitkit::glam::{DVec2, DVec3};
 use hitkit::{HitRecord, Hittable, Ray, Sampling, ShadingContext};
+use hitkit_render::Effects;
+use hitkit_render::render::{Settings, render};
+use hitkit_render::scenes::{cornell_book_scene, cornell_scene};
 use rand::rngs::SmallRng;
 use rand::{RngExt, SeedableRng};
 use support::assert_same_mean;

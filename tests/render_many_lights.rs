@@ -5,12 +5,10 @@
 //! tree whose density disagreed with its sampling would show here); and the tree's
 //! estimate has less variance per sample than the mixtures'.
 
-#[path = "../examples/common/mod.rs"]
-mod common;
 mod support;
 
-use common::render::{Settings, render};
-use common::scenes::{Pick, hall_scene};
+use hitkit_render::render::{Settings, render};
+use hitkit_render::scenes::{Pick, hall_scene};
 use support::assert_same_mean;
 
 /// A short hall (40 rows: 160 panels and 20 sconces), small, for a debug build.
@@ -19,7 +17,7 @@ fn mean(pick: Pick, seed: u64) -> ((f64, f64), f64) {
 }
 
 /// The mean luminance of `scene` and its standard error, and its mean per-pixel variance.
-fn mean_of<W: hitkit::Hittable>(scene: common::Scene<W>, seed: u64) -> ((f64, f64), f64) {
+fn mean_of<W: hitkit::Hittable>(scene: hitkit_render::Scene<W>, seed: u64) -> ((f64, f64), f64) {
     let settings = Settings {
         samples: 96,
         max_depth: 8,

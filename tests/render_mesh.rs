@@ -2,16 +2,13 @@
 //! their hits carry, a missing OBJ file is an error naming it, and motion blur renders
 //! without NaN.
 
-#[path = "../examples/common/mod.rs"]
-mod common;
-
 use std::path::Path;
 
-use common::Material;
-use common::render::{Settings, render};
-use common::scenes::{load_obj, mesh_scene};
 use hitkit::glam::DVec3;
 use hitkit::{Hittable, Interval, Ray};
+use hitkit_render::Material;
+use hitkit_render::render::{Settings, render};
+use hitkit_render::scenes::{load_obj, mesh_scene};
 
 /// Rays down onto the instances' centres' row find instances, each hit coloured by the
 /// palette entry its instance id picks (the `ByInstance` wrapper), and different

@@ -2,14 +2,12 @@
 //! should, the book's flat background shows at the corners, and the image does not depend
 //! on the thread count.
 
-#[path = "../examples/common/mod.rs"]
-mod common;
 mod support;
 
-use common::cli::to_rgb8;
-use common::render::{Rendered, Settings, render};
-use common::scenes::{QUADS_BACKGROUND, quads_scene};
 use hitkit::glam::DVec3;
+use hitkit_render::cli::to_rgb8;
+use hitkit_render::render::{Rendered, Settings, render};
+use hitkit_render::scenes::{QUADS_BACKGROUND, quads_scene};
 
 const SIDE: usize = 48;
 
@@ -116,7 +114,7 @@ fn the_quads_scene_calls_for_its_background_and_nothing_else() {
 #[test]
 fn every_effect_forced_on_renders_a_scene_without_lights() {
     let scene = quads_scene(16);
-    let all = render(&scene, &settings(1), common::Effects::ALL).unwrap();
+    let all = render(&scene, &settings(1), hitkit_render::Effects::ALL).unwrap();
     assert!(all.pixels.iter().all(|c| c.is_finite()));
     assert!(all.mean_luminance().0 > 0.0);
 }

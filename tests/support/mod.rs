@@ -3,12 +3,12 @@
 //! that two renders agree on a mean.
 #![allow(dead_code)]
 
-pub mod distance;
-#[path = "scene.rs"]
-mod scene;
-
 #[allow(unused_imports)] // not every test file uses it
-pub use scene::{SplitMix, cube_corner, cube_faces, face_point, icosphere, instances};
+pub use hitkit_render::distance;
+#[allow(unused_imports)]
+pub use hitkit_render::workloads::{
+    SplitMix, cube_corner, cube_faces, face_point, icosphere, instances,
+};
 
 /// Offsets that round every corner built from them (none is a power of two), 0 to ~1e12.
 pub const OFFSETS: [f64; 5] = [0.0, 1234.567, 1.1e6 + 0.3, 3.3e9 + 0.7, 1.7e12 + 0.1];

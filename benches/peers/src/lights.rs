@@ -4,12 +4,13 @@
 //! density query (`light_pdf`), from shading points with normals, as the number of lights
 //! grows; and the tree's build time and memory per light.
 
+use hitkit_render::workloads;
 use std::hint::black_box;
 
 use hitkit::glam::{DVec2, DVec3};
 use hitkit::{Emission, LightTree, Mixture, PdfHittable, Quad, ShadingContext};
 
-use super::{Args, IN_USE, median_time, reset_peak, scene};
+use super::{Args, IN_USE, median_time, reset_peak};
 use std::sync::atomic::Ordering::Relaxed;
 
 /// Light counts of the table's rows.
@@ -30,7 +31,7 @@ fn direction(light: &impl PdfHittable, at: &ShadingContext, u: DVec2) -> DVec3 {
 /// `n` small panels, 1 cm to 10 cm across, facing every way, spread through a cube of 100 m,
 /// with powers over four decades; the same for every seed.
 fn lights(n: usize, seed: u64) -> (Vec<Quad>, Vec<f64>, Vec<Emission>) {
-    let mut rng = scene::SplitMix::new(seed);
+    let mut rng = workloads::SplitMix::new(seed);
     let (mut quads, mut powers, mut emission) = (Vec::new(), Vec::new(), Vec::new());
     for _ in 0..n {
         let at = 100.0 * rng.vec3();
@@ -51,7 +52,7 @@ pub(super) fn run(args: &Args) -> Vec<String> {
     for n in COUNTS {
         eprintln!("{n} lights");
         let (quads, powers, emission) = lights(n, args.seed);
-        let mut rng = scene::SplitMix::new(args.seed.wrapping_add(1));
+        let mut rng = workloads::SplitMix::new(args.seed.wrapping_add(1));
         let points: Vec<(ShadingContext, DVec2)> = (0..POINTS)
             .map(|_| {
                 let p = 100.0 * rng.vec3();
@@ -137,7 +138,7 @@ pub(super) fn run(args: &Args) -> Vec<String> {
 pub(super) fn print(rows: &[String], args: &Args) {
     println!(
         "{}; single-threaded; median of {} runs; {POINTS} shading points with random normals (the mixture's queries at most {MIXTURE_QUERIES_AT_MOST} light visits) in a 100 m cube of small panels facing every way, powers over four decades; the tree's bytes include the lights it holds ({} bytes a `Quad`)\n",
-        scene::machine(),
+        workloads::machine(),
         args.runs,
         std::mem::size_of::<Quad>()
     );

@@ -9,11 +9,10 @@
 #[cfg(feature = "embree")]
 mod embree;
 mod lights;
-#[path = "../../../tests/support/scene.rs"]
-mod scene;
 mod triad;
 mod updates;
 
+use hitkit_render::workloads;
 use std::hint::black_box;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -613,7 +612,7 @@ struct Scene {
 
 impl Scene {
     /// A soup: every triangle its own three vertices.
-    fn soup(name: String, tris: &[scene::Tri]) -> Self {
+    fn soup(name: String, tris: &[workloads::Tri]) -> Self {
         Self {
             name,
             vertices: tris.iter().flatten().copied().collect(),
@@ -623,7 +622,7 @@ impl Scene {
         }
     }
 
-    fn tris(&self) -> Vec<scene::Tri> {
+    fn tris(&self) -> Vec<workloads::Tri> {
         self.faces
             .iter()
             .map(|f| f.map(|i| self.vertices[i as usize]))
@@ -680,7 +679,7 @@ fn load_obj(name: &str, path: &Path) -> Result<Scene, tobj::LoadError> {
 
 /// The triangles hitkit accepts (the degenerate ones dropped): the one list every library
 /// gets.
-fn quads(tris: &[scene::Tri]) -> Vec<Quad<Triangle>> {
+fn quads(tris: &[workloads::Tri]) -> Vec<Quad<Triangle>> {
     tris.iter()
         .filter_map(|&[a, b, c]| Quad::with_interior(a, b - a, c - a, Triangle).ok())
         .collect()
@@ -725,10 +724,10 @@ fn run_scene(scene: &Scene, args: &Args) -> (Vec<String>, Vec<String>, Vec<Strin
     let name = scene.name.as_str();
     let tris = scene.tris();
     let quads = quads(&tris);
-    let bounds = scene::bounds(&tris);
+    let bounds = workloads::bounds(&tris);
     drop(tris);
-    let camera = scene::camera_rays(bounds, args.side);
-    let random = scene::random_rays(bounds, args.rays, args.seed.wrapping_add(1));
+    let camera = workloads::camera_rays(bounds, args.side);
+    let random = workloads::random_rays(bounds, args.rays, args.seed.wrapping_add(1));
     let sets: [&[Ray]; 2] = [&camera, &random];
     eprintln!("{name}: {} triangles", quads.len());
     let mut results = Vec::new();
@@ -803,16 +802,16 @@ const OFFSET_DIRECTION: DVec3 = DVec3::new(0.8, 0.36, -0.48);
 /// `runs`) and triangle tests per ray (counted in a separate, untimed pass), for camera and
 /// random rays made from the moved scene's bounds the same way at every offset. Rows of the
 /// second table.
-fn run_offsets(name: &str, tris: &[scene::Tri], args: &Args) -> Vec<String> {
+fn run_offsets(name: &str, tris: &[workloads::Tri], args: &Args) -> Vec<String> {
     let side = (args.offset_rays as f64).sqrt().ceil() as usize;
     let mut rows = Vec::new();
     for &offset in &args.offsets {
         let shift = offset * OFFSET_DIRECTION;
-        let moved: Vec<scene::Tri> = tris.iter().map(|t| t.map(|p| p + shift)).collect();
+        let moved: Vec<workloads::Tri> = tris.iter().map(|t| t.map(|p| p + shift)).collect();
         let quads = quads(&moved);
-        let bounds = scene::bounds(&moved);
-        let camera = scene::camera_rays(bounds, side);
-        let random = scene::random_rays(bounds, args.offset_rays, args.seed.wrapping_add(1));
+        let bounds = workloads::bounds(&moved);
+        let camera = workloads::camera_rays(bounds, side);
+        let random = workloads::random_rays(bounds, args.offset_rays, args.seed.wrapping_add(1));
         let sets: [&[Ray]; 2] = [&camera, &random];
         eprintln!("{name} at offset {offset:e}");
 
@@ -908,11 +907,11 @@ fn main() -> ExitCode {
     for &n in &args.soups {
         scenes.push(Scene::soup(
             format!("soup {n}"),
-            &scene::triangle_soup(n, args.seed),
+            &workloads::triangle_soup(n, args.seed),
         ));
     }
     if args.sphere > 0 {
-        let (vertices, faces) = scene::icosphere(args.sphere);
+        let (vertices, faces) = workloads::icosphere(args.sphere);
         scenes.push(Scene {
             name: format!("closed sphere {}", faces.len()),
             vertices,
@@ -944,7 +943,7 @@ fn main() -> ExitCode {
 
     println!(
         "{}; single-threaded (but the build of the row marked parallel build, on every core); {} camera rays ({side} x {side}), {} random rays; median of {} runs; seed {:#x}\n",
-        scene::machine(),
+        workloads::machine(),
         args.side * args.side,
         args.rays,
         args.runs,

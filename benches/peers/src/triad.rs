@@ -17,8 +17,8 @@ use obvhs::cwbvh::CwBvh;
 use obvhs::cwbvh::builder::{build_cwbvh, build_cwbvh_from_tris};
 use obvhs::ray::RayHit;
 
-use crate::scene::SplitMix;
 use crate::{Args, Hit, Scene, closer, f32_box, f32_up, quads};
+use hitkit_render::workloads::{self, SplitMix};
 
 /// A horizontal lamp facing down: a corner and two edges.
 #[derive(Clone, Copy)]
@@ -94,10 +94,10 @@ impl Builder {
         let place =
             |p: DVec3| DVec3::new(cos * p.x + sin * p.z, p.y, -sin * p.x + cos * p.z) + offset;
         let ids: Vec<u32> = (0..8)
-            .map(|i| self.vertex(place(crate::scene::cube_corner(i) * size)))
+            .map(|i| self.vertex(place(workloads::cube_corner(i) * size)))
             .collect();
         self.faces.extend(
-            crate::scene::cube_faces()
+            hitkit_render::workloads::cube_faces()
                 .iter()
                 .map(|f| f.map(|i| ids[i as usize])),
         );
@@ -178,9 +178,9 @@ fn lamp_over((lo, hi): (DVec3, DVec3), fraction: f64) -> Lamp {
     }
 }
 
-/// The model alone, from the peers table's camera (`scene::camera_rays`), a lamp above.
+/// The model alone, from the peers table's camera (`workloads::camera_rays`), a lamp above.
 fn model(model: &Scene) -> TriadScene {
-    let bounds = crate::scene::bounds(&model.tris());
+    let bounds = hitkit_render::workloads::bounds(&model.tris());
     let (lo, hi) = bounds;
     let centre = 0.5 * (lo + hi);
     let radius = 0.5 * (hi - lo).length();
@@ -191,7 +191,7 @@ fn model(model: &Scene) -> TriadScene {
             vertices: model.vertices.clone(),
             faces: model.faces.clone(),
         },
-        // The field of view that just fits the bounding sphere, as `scene::camera_rays`.
+        // The field of view that just fits the bounding sphere, as `workloads::camera_rays`.
         camera: Camera {
             eye,
             target: centre,
@@ -205,7 +205,7 @@ fn model(model: &Scene) -> TriadScene {
 /// last, on a square grid on a floor, flattened into one mesh; a camera above the front,
 /// and a lamp over the middle.
 fn crowd(model: &Scene, copies: usize) -> TriadScene {
-    let (lo, hi) = crate::scene::bounds(&model.tris());
+    let (lo, hi) = hitkit_render::workloads::bounds(&model.tris());
     let size = hi - lo;
     let centre = 0.5 * (lo + hi);
     let spacing = 1.2 * size.x.max(size.z);
@@ -237,7 +237,7 @@ fn crowd(model: &Scene, copies: usize) -> TriadScene {
     let middle = floor + 0.5 * DVec3::new(extent.x + spacing, 0.0, extent.z + spacing);
     let reach = 0.5 * extent.x.max(extent.z);
     let scene = b.finish(&format!("crowd of {copies} {}", model.name));
-    let bounds = crate::scene::bounds(&scene.tris());
+    let bounds = hitkit_render::workloads::bounds(&scene.tris());
     TriadScene {
         scene,
         camera: Camera {
@@ -252,7 +252,7 @@ fn crowd(model: &Scene, copies: usize) -> TriadScene {
 /// The closed sphere seen from inside, a lamp under its top: every bounce stays in it,
 /// and no shadow ray is blocked (the sphere is convex), so each must prove that.
 fn inside_sphere(levels: u32) -> TriadScene {
-    let (vertices, faces) = crate::scene::icosphere(levels);
+    let (vertices, faces) = hitkit_render::workloads::icosphere(levels);
     TriadScene {
         scene: Scene {
             name: format!("inside closed sphere {}", faces.len()),
@@ -900,7 +900,7 @@ pub fn run(scenes: &[TriadScene], args: &Args) {
     }
     println!(
         "{}; one thread; {} x {} camera rays, a cosine bounce from each primary hit, a shadow ray to a point on the lamp from each primary hit facing it; Mrays/s, median of {} runs, the libraries in turn within each run; seed {:#x}\n",
-        crate::scene::machine(),
+        hitkit_render::workloads::machine(),
         args.side,
         args.side,
         args.runs,

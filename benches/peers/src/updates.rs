@@ -4,6 +4,7 @@
 //! grows, against a tree built afresh on the deformed mesh, with the cost the tree reports;
 //! and a `Bvh` of the same triangles after a run of inserts and removes, against a rebuild.
 
+use hitkit_render::workloads;
 use std::hint::black_box;
 use std::time::{Duration, Instant};
 
@@ -12,7 +13,7 @@ use hitkit::{Bvh, Hittable, Interval, Quad, Ray, Triangle, TriangleMesh};
 use obvhs::BvhBuildParams;
 use obvhs::bvh2::builder::build_bvh2_from_tris;
 
-use super::{Args, Scene, median_time, quads, scene};
+use super::{Args, Scene, median_time, quads};
 
 /// How far the deformation goes, as the largest twist at the mesh's top and bottom: a
 /// point at the top turns by `amount * 90` degrees about the vertical axis through the
@@ -157,11 +158,11 @@ pub(super) fn run(scene: &Scene, args: &Args) -> (String, Vec<String>) {
         let mut refitted = base.clone();
         refitted.set_vertices(&v).expect("valid vertices");
         let fresh = TriangleMesh::new(&v, faces).expect("a valid mesh");
-        let tris: Vec<scene::Tri> = faces.iter().map(|f| f.map(|i| v[i as usize])).collect();
-        let bounds = scene::bounds(&tris);
+        let tris: Vec<workloads::Tri> = faces.iter().map(|f| f.map(|i| v[i as usize])).collect();
+        let bounds = workloads::bounds(&tris);
         drop(tris);
-        let camera = scene::camera_rays(bounds, args.side);
-        let random = scene::random_rays(bounds, args.rays, args.seed.wrapping_add(1));
+        let camera = workloads::camera_rays(bounds, args.side);
+        let random = workloads::random_rays(bounds, args.rays, args.seed.wrapping_add(1));
         let mut speeds = Vec::new();
         for rays in [&camera, &random] {
             let (a, hits_a) = trace(&refitted, rays, args.runs);
@@ -203,10 +204,10 @@ pub(super) fn churn(scene: &Scene, args: &Args) -> Vec<String> {
     eprintln!("{name}: {CHURN} inserts and removes");
     let triangles = quads(&scene.tris());
     let built = Bvh::new(triangles.clone());
-    let bounds = scene::bounds(&scene.tris());
+    let bounds = workloads::bounds(&scene.tris());
     let (lo, hi) = bounds;
     let changes = |mut bvh: Bvh<Quad<Triangle>>| {
-        let mut rng = scene::SplitMix::new(args.seed.wrapping_add(2));
+        let mut rng = workloads::SplitMix::new(args.seed.wrapping_add(2));
         let mut live: Vec<usize> = (0..bvh.len()).collect();
         for _ in 0..CHURN / 2 {
             let pick = rng.next_u64() as usize % live.len();
@@ -236,8 +237,8 @@ pub(super) fn churn(scene: &Scene, args: &Args) -> Vec<String> {
     let set: Vec<Quad<Triangle>> = changed.objects().to_vec();
     let (rebuild, fresh) = median_time(args.runs, || set.clone(), Bvh::new);
     trees.push(("`Bvh::new` of the changed set".into(), rebuild, fresh));
-    let camera = scene::camera_rays(bounds, args.side);
-    let random = scene::random_rays(bounds, args.rays, args.seed.wrapping_add(1));
+    let camera = workloads::camera_rays(bounds, args.side);
+    let random = workloads::random_rays(bounds, args.rays, args.seed.wrapping_add(1));
     let mut speeds = vec![Vec::new(); trees.len()];
     for rays in [&camera, &random] {
         let mut hits = Vec::new();
@@ -286,7 +287,7 @@ pub(super) fn churn(scene: &Scene, args: &Args) -> Vec<String> {
 pub(super) fn print(times: &[String], rows: &[String], churns: &[String], args: &Args) {
     println!(
         "{}; single-threaded; median of {} runs, taken in alternation (hitkit's rebuild, its refit, obvhs's refit; to the mesh twisted by 9 degrees and back)\n",
-        scene::machine(),
+        workloads::machine(),
         args.runs
     );
     println!(

@@ -6,9 +6,6 @@
 //!
 //! `cargo run --release -p hitkit-port -- --help`
 
-#[allow(dead_code)]
-#[path = "../../../examples/common/medium.rs"]
-mod medium;
 mod naive;
 mod render;
 mod scenes;

@@ -10,18 +10,7 @@ use hitkit::glam::{DVec2, DVec3};
 use hitkit::{HitRecord, Hittable, Interval, PdfHittable, Ray};
 
 use crate::naive::{self, Span, T_MIN};
-use crate::scenes::{self, Scene};
-
-pub type Color = DVec3;
-
-#[derive(Clone, Copy)]
-pub enum Material {
-    Lambertian(Color),
-    Metal(Color, f64),
-    Dielectric(f64),
-    Light(Color),
-    Isotropic(Color),
-}
+use crate::scenes::{self, Color, Material, Scene};
 
 /// What the renderer asks of the geometry.
 pub trait Backend {
@@ -97,36 +86,6 @@ impl Backend for Hitkit {
     }
     fn light_sample(&self, origin: DVec3, u: DVec2) -> DVec3 {
         self.lights.sample_direction(origin, u)
-    }
-}
-
-/// The book's camera, without defocus.
-pub struct Camera {
-    origin: DVec3,
-    u: DVec3,
-    v: DVec3,
-    w: DVec3,
-    half: f64,
-}
-
-impl Camera {
-    pub fn new(from: DVec3, at: DVec3, vfov: f64) -> Self {
-        let w = (from - at).normalize();
-        let u = DVec3::Y.cross(w).normalize();
-        Self {
-            origin: from,
-            u,
-            v: w.cross(u),
-            w,
-            half: (vfov.to_radians() / 2.0).tan(),
-        }
-    }
-
-    /// The ray through `(x, y)` of the square image, both in `[0, 1]`, y down.
-    fn ray(&self, x: f64, y: f64, time: f64) -> Ray {
-        let d =
-            (2.0 * x - 1.0) * self.half * self.u + (1.0 - 2.0 * y) * self.half * self.v - self.w;
-        Ray::new(self.origin, d).at_time(time)
     }
 }
 

@@ -4,12 +4,54 @@
 
 use hitkit::glam::{DQuat, DVec3};
 use hitkit::{
-    Bvh, Cuboid, Hittable, MaterialId, Moving, PdfHittable, Quad, Sampling, Sphere, Transformed,
+    Bvh, Cuboid, Hittable, MaterialId, Moving, PdfHittable, Quad, Ray, Sampling, Sphere,
+    Transformed,
 };
 
-use crate::medium::{ConstantMedium, hash_uniform};
 use crate::naive;
-use crate::render::{Camera, Material};
+use hitkit_render::medium::{ConstantMedium, hash_uniform};
+
+/// Linear RGB.
+pub type Color = DVec3;
+
+#[derive(Clone, Copy)]
+pub enum Material {
+    Lambertian(Color),
+    Metal(Color, f64),
+    Dielectric(f64),
+    Light(Color),
+    Isotropic(Color),
+}
+
+/// The book's camera, without defocus.
+pub struct Camera {
+    origin: DVec3,
+    u: DVec3,
+    v: DVec3,
+    w: DVec3,
+    half: f64,
+}
+
+impl Camera {
+    pub fn new(from: DVec3, at: DVec3, vfov: f64) -> Self {
+        let w = (from - at).normalize();
+        let u = DVec3::Y.cross(w).normalize();
+        Self {
+            origin: from,
+            u,
+            v: w.cross(u),
+            w,
+            half: (vfov.to_radians() / 2.0).tan(),
+        }
+    }
+
+    /// The ray through `(x, y)` of the square image, both in `[0, 1]`, y down.
+    pub fn ray(&self, x: f64, y: f64, time: f64) -> Ray {
+        let d =
+            (2.0 * x - 1.0) * self.half * self.u + (1.0 - 2.0 * y) * self.half * self.v - self.w;
+        Ray::new(self.origin, d).at_time(time)
+    }
+}
 
 /// A shape of a scene, as the book's code builds it.
 pub enum Shape {

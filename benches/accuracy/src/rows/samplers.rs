@@ -70,7 +70,7 @@ fn lights() -> [(&'static str, Light, Light); 2] {
 
 /// Variance per sample and median ns per sample (of `RUNS` timed runs) of `n` estimates.
 fn measure(light: &dyn PdfHittable, origin: DVec3, n: usize) -> (f64, f64) {
-    let mut rng = crate::scene::SplitMix::new(0x5eed);
+    let mut rng = hitkit_render::workloads::SplitMix::new(0x5eed);
     let mut next = move || rng.next_f64();
     let mut estimate = || {
         let d = light.sample_direction(origin, DVec2::new(next(), next()));

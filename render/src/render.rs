@@ -10,9 +10,9 @@ use rand::rngs::SmallRng;
 use rand::{RngExt, SeedableRng};
 use rayon::prelude::*;
 
-use super::camera::Camera;
-use super::material::{Scatter, cosine_direction};
-use super::{Color, Effects, Scene};
+use crate::camera::Camera;
+use crate::material::{Scatter, cosine_direction};
+use crate::{Color, Effects, Scene};
 
 /// How to render, as opposed to what.
 #[derive(Clone, Copy, Debug)]

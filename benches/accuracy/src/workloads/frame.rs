@@ -15,12 +15,12 @@ const OFFSET_DIRECTION: DVec3 = DVec3::new(1.0, 0.75, -0.5);
 /// The shared fixed stream (SplitMix64, as the benches use), with the draws the workloads
 /// need.
 #[derive(Clone)]
-pub struct Rng(crate::scene::SplitMix);
+pub struct Rng(hitkit_render::workloads::SplitMix);
 
 impl Rng {
     /// A generator seeded with `seed`.
     pub fn new(seed: u64) -> Self {
-        Self(crate::scene::SplitMix::new(seed))
+        Self(hitkit_render::workloads::SplitMix::new(seed))
     }
 
     /// The next 64 random bits.

@@ -5,23 +5,15 @@
 //! a Markdown table and writes `accuracy.svg` (failures against cost); then measures the
 //! Cornell box's image error against render time.
 //!
-//! `cargo run --release --example accuracy`; `-- --help` lists the options.
+//! `cargo run --release -p hitkit-accuracy`; `-- --help` lists the options.
 //!
 //! The layout: `workloads/` generates the hard cases (each workload describes itself from
 //! the constants that build it), `rows/` measures each accuracy choice on them, `report/`
 //! prints the tables and draws the plot.
 
-#[path = "../common/mod.rs"]
-mod common;
-/// The contract's distance and bound, shared with `tests/contract.rs`.
-#[path = "../../tests/support/distance.rs"]
-mod contract_distance;
 mod numbers;
 mod report;
 mod rows;
-#[path = "../../tests/support/scene.rs"]
-#[allow(dead_code)] // the shared random stream and the machine's name are what this uses
-mod scene;
 mod workloads;
 
 use std::path::PathBuf;
@@ -46,7 +38,7 @@ Measures what each of hitkit's accuracy choices fixes (failure counts on hard-ca
 workloads) and what it costs (ns per ray), prints a Markdown table, writes accuracy.svg,
 then measures the Cornell box's image error against render time.
 
-Usage: cargo run --release --example accuracy -- [OPTIONS]
+Usage: cargo run --release -p hitkit-accuracy -- [OPTIONS]
 
 Options:
   --output-dir DIR  where to write accuracy.svg (created if missing) [default: .]
@@ -97,7 +89,7 @@ fn run(options: &Options) -> Result<(), String> {
             options.output_dir.display()
         )
     })?;
-    let machine = scene::machine();
+    let machine = hitkit_render::workloads::machine();
     println!("# What each accuracy choice fixes and what it costs\n");
     println!("Machine: {machine}.\n");
     println!("## Geometry\n");

@@ -4,9 +4,9 @@
 
 use std::time::Instant;
 
-use crate::common::render::{Rendered, Settings, luminance, render};
-use crate::common::scenes::cornell_scene;
 use hitkit::Sampling;
+use hitkit_render::render::{Rendered, Settings, luminance, render};
+use hitkit_render::scenes::cornell_scene;
 
 /// Sample counts of the images judged.
 pub const SAMPLE_COUNTS: [usize; 5] = [1, 4, 16, 64, 256];

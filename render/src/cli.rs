@@ -6,9 +6,9 @@ use std::time::Instant;
 
 use hitkit::Hittable;
 
-use super::Color;
-use super::Scene;
-use super::render::{Rendered, Settings, render};
+use crate::Color;
+use crate::Scene;
+use crate::render::{Rendered, Settings, render};
 
 /// The largest image width the examples render: 8K. The pixels are kept as `f64` RGB
 /// (24 bytes each), so a square image of this width takes 1.5 GiB; wider ones would take

@@ -1,17 +1,19 @@
-//! A small path tracer shared by the examples, their tests and the render bench: the book's
-//! camera and materials, an integrator that simulates only the effects a scene calls for,
-//! parallel rendering with a progress bar, and PNG output.
+//! A small path tracer shared by hitkit's examples, their tests and the render bench: the
+//! book's camera and materials, an integrator that simulates only the effects a scene
+//! calls for, parallel rendering with a progress bar, and PNG output; and the workloads
+//! (scenes and rays) that the tests, the benches, the peers comparison and the accuracy
+//! tables all trace.
 //!
-//! Not part of the library: hitkit stays free of rendering.
-
-#![allow(dead_code)] // each example uses its own part
+//! An unpublished workspace crate: hitkit itself stays free of rendering.
 
 pub mod camera;
 pub mod cli;
+pub mod distance;
 pub mod material;
 pub mod medium;
 pub mod render;
 pub mod scenes;
+pub mod workloads;
 
 use hitkit::glam::DVec3;
 use hitkit::{Hittable, PdfHittable};

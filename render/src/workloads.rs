@@ -1,7 +1,5 @@
-//! The scenes and rays every benchmark shares, kept in the packaged tree: the tests, the
-//! criterion benches and the accuracy example include this file, and the peers comparison
-//! (`benches/peers`, outside the package) reaches into it, so that all of them trace the
-//! same work.
+//! The scenes and rays every measurement shares: the tests, the criterion benches, the
+//! peers comparison and the accuracy tables trace the same work.
 
 use hitkit::Ray;
 use hitkit::glam::DVec3;

@@ -3,7 +3,7 @@
 use hitkit::glam::DVec3;
 use hitkit::{MaterialId, Quad};
 
-use super::{Background, CameraSettings, Color, Material, Scene};
+use crate::{Background, CameraSettings, Color, Material, Scene};
 
 /// The quads scene's background: the book's `cam.background`.
 pub const QUADS_BACKGROUND: Color = Color::new(0.70, 0.80, 1.00);
@@ -590,7 +590,7 @@ pub fn hall_scene(
             );
             // Facing down: `x cross z` is `-y`.
             let panel = quad(corner, size * x, size * z, m);
-            powers.push(std::f64::consts::PI * super::render::luminance(radiance) * panel.area());
+            powers.push(std::f64::consts::PI * crate::render::luminance(radiance) * panel.area());
             emission.push(Emission::OneSide(-y));
             world.push(Box::new(panel));
             lights.push(Box::new(panel));
@@ -610,7 +610,7 @@ pub fn hall_scene(
                     .expect("the sconces are valid")
                     .with_material(m);
                 powers.push(
-                    std::f64::consts::PI * super::render::luminance(radiance) * sconce.area(),
+                    std::f64::consts::PI * crate::render::luminance(radiance) * sconce.area(),
                 );
                 emission.push(Emission::OneSide(u.cross(v)));
                 world.push(Box::new(sconce));

@@ -5,7 +5,7 @@ use hitkit::glam::DVec3;
 use rand::RngExt;
 use rand::rngs::SmallRng;
 
-use super::Color;
+use crate::Color;
 
 #[derive(Clone, Copy, Debug)]
 pub enum Material {

@@ -1,13 +1,13 @@
 //! The contract's yardstick on the workloads' shapes: which shape a `(q, u, v)` stands for,
 //! and whether a reported hit lies farther from it than the contract allows (clause 1;
-//! the distance and the bound are `tests/support/distance.rs`, shared with
+//! the distance and the bound are `hitkit_render::distance`, shared with
 //! `tests/contract.rs`).
 
 use hitkit::glam::DVec3;
 
-pub use crate::contract_distance::CONTRACT_EXPONENT;
-use crate::contract_distance::{planar_bound, to_polygon};
 use crate::workloads::frame::{Outline, QuadSpec};
+pub use hitkit_render::distance::CONTRACT_EXPONENT;
+use hitkit_render::distance::{planar_bound, to_polygon};
 
 impl Outline {
     /// The distance from `p` to the shape `s` (the exact parallelogram or triangle that

@@ -11,7 +11,7 @@ pub enum Failure {
     /// A ray aimed at a shared edge or corner hits none of the shapes sharing it.
     Crack,
     /// A hit whose point lies farther from the true shape than the contract's bound,
-    /// `2^-43 M / s^2` (see `contract_distance::planar_bound`).
+    /// `2^-43 M / s^2` (see `hitkit_render::distance::planar_bound`).
     FalseHit,
     /// A spawned ray hits the surface it left.
     SelfHit,
