@@ -419,8 +419,8 @@ impl HitRecord {
 
 /// How far [`HitRecord::spawn_ray_to`] ends a shadow ray off the far surface, relative to
 /// the coordinates' magnitude: `2^-46`, four times the tolerance within which shapes decide
-/// their crossings (`2^-48`, the contract's clause 2). (`tests/next_event.rs` fails at
-/// `2^-56` and passes at `2^-52`.)
+/// their crossings (`2^-48`, the contract's clause 2), so that the end lies beyond both
+/// the surface's own rounding and that widening (`tests/next_event.rs` holds it).
 const FAR_END: f64 = 1.0 / (1u64 << 46) as f64;
 
 /// `x`, a coordinate just stepped up, unless it lies within [`SPAWN_FLOOR`] of zero: then

@@ -101,7 +101,7 @@ impl<T> Moving<T> {
     /// nothing).
     #[inline]
     #[must_use]
-    pub fn offset_at(&self, time: f64) -> DVec3 {
+    fn offset_at(&self, time: f64) -> DVec3 {
         time.clamp(0.0, 1.0) * self.displacement
     }
 }

@@ -124,12 +124,10 @@ impl Sheared {
         let e1 = x2 * y0 - y2 * x0;
         let e2 = x0 * y1 - y0 * x1;
         // Mixed signs, each beyond its bound: a miss (the common case), decided without
-        // the bounds where the signs are not mixed. (Tried: this step for a leaf's four
-        // faces at once, in `f64` lanes under AVX2; slower on every cell of the triad, the
-        // faces a ray tests being mostly hit or close. A face wholly behind `t_min` by its
-        // corners' depths, dropped before this step: no faster. And this step first in
-        // `f32` on copies of the corners, with a bound that covers their rounding: 7% to
-        // 21% slower on every cell, and 36 bytes a face more.)
+        // the bounds where the signs are not mixed. (Tried: a leaf's four faces at once in
+        // `f64` lanes, slower on every cell of the triad; faces behind `t_min` dropped
+        // first, no faster; a first pass in `f32` on copies of the corners, slower and
+        // larger.)
         let (m0, m1, m2) = (l1(a0), l1(a1), l1(a2));
         let (b0, b1, b2) = (
             EDGE_ERROR * m1 * m2,

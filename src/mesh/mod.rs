@@ -110,7 +110,7 @@ pub struct TriangleMesh {
 /// How many faces share one running sum of areas: sampling by area finds the block by
 /// the sums and the face within it by adding its faces' areas again, in the same order,
 /// so that it picks exactly the face a sum for every face would, for a quarter of the
-/// memory (2 bytes a face instead of 8).
+/// memory.
 const AREA_BLOCK: usize = 4;
 
 /// How the mesh's tree weighs a node against its faces: a face test costs a little more

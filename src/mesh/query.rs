@@ -103,7 +103,7 @@ impl TriangleMesh {
         let order = &self.tree.order;
         let mut tests = 0u32;
         // The leaf's face tests out of line, here and in `any`: the node loop stays small.
-        // (Tried: inlined into it; no faster, bounces 5% slower.)
+        // (Tried: inlined into it; no faster, bounces slower.)
         self.tree.walk::<true>(
             ray,
             ray_t,

@@ -73,6 +73,9 @@ pub trait Interior: Send + Sync {
     /// assert_eq!(Parallelogram.coordinate_bounds(), Some([DVec2::ZERO, DVec2::ONE]));
     /// assert_eq!(Disk.coordinate_bounds(), Some([-DVec2::ONE, DVec2::ONE]));
     /// ```
+    // Hidden: a speed hook of the built-in interiors (with the next), not what a shape
+    // needs; public only because `Quad<S>` asks it of any `S`.
+    #[doc(hidden)]
     #[inline]
     fn coordinate_bounds(&self) -> Option<[DVec2; 2]> {
         None
@@ -82,6 +85,7 @@ pub trait Interior: Send + Sync {
     /// [`coordinate_bounds`](Interior::coordinate_bounds) names (as the [`Parallelogram`]
     /// is): a [`Quad`](crate::Quad) then takes a crossing clearly inside the rectangle as a
     /// hit without computing its error bounds either. Default: `false`.
+    #[doc(hidden)]
     #[inline]
     fn fills_coordinate_bounds(&self) -> bool {
         false

@@ -98,7 +98,7 @@ impl Sphere {
     /// are `c / q` and `q / a` with `q = -(b + sign(b) sqrt(...))`, so neither subtracts
     /// nearly equal numbers (Ray Tracing Gems, chapter 7).
     #[must_use]
-    pub fn roots(&self, ray: &Ray) -> Option<(f64, f64)> {
+    pub(crate) fn roots(&self, ray: &Ray) -> Option<(f64, f64)> {
         self.solve(ray)
             .filter(|&(near, far, ..)| near.is_finite() && far.is_finite())
             .map(|(near, far, ..)| (near, far))

@@ -138,12 +138,10 @@ impl Tree {
             let mut builder = Builder::new(shape, parallel);
             let root = builder.node(&mut prims, 0, 0, extent);
             // The nodes' lanes chosen first, then the nodes allocated to the node: a node
-            // opens up to `WIDTH - 1` pairs and those low in the tree fewer (the bunny's
-            // mesh: 10,756 nodes for 32,582 pairs). (Tried: one node per two pairs
-            // reserved, which kept a fifth of a mesh's bytes as slack, and given back after
-            // the collapse, which for nodes aligned to 64 bytes is a copy: builds 3% to 6%
-            // slower; the vector grown by doubling, 5% to 8% slower; the lanes chosen twice,
-            // once to count the nodes, 3.5% more instructions.)
+            // opens up to `WIDTH - 1` pairs and those low in the tree fewer. (Tried: one
+            // node per two pairs reserved and the slack given back after the collapse, a
+            // copy; the vector grown by doubling; the lanes chosen twice to count the
+            // nodes: each slower.)
             let mut plans = Vec::with_capacity(builder.pairs.len() / 2 + 1);
             plan(&builder.pairs, root, &mut plans);
             nodes.reserve_exact(plans.len());

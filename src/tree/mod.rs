@@ -30,8 +30,8 @@ use node::Node;
 const MAX_DEPTH: usize = 64;
 
 /// Children per node: eight, one AVX2 instruction's `f32` lanes. (Against four: bounce and
-/// shadow rays 7% to 17% faster on meshes of real size, primary rays 3% to 10% slower;
-/// `docs/performance.md`, the triad.)
+/// shadow rays faster on meshes of real size, primary rays slower; `docs/performance.md`,
+/// the triad.)
 pub(crate) const WIDTH: usize = 8;
 
 /// What one query cost in a tree, counted by [`Bvh::hit_visits`],

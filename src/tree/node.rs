@@ -15,11 +15,9 @@ use crate::math::Dd;
 /// (`bounds[axis]` the lower bounds along `axis`, `bounds[3 + axis]` the upper), so that a
 /// ray picks its near and far bound per axis once. For each child either a node
 /// (`count == 0`, `index` the node) or a leaf (`count` objects from `index`); an unused
-/// lane holds an empty box, which no ray enters. The root is node 0. (Tried: each bound as 8 bits, steps
-/// of a power of two from a corner of the node, which makes a node two cache lines: shadow
-/// rays 0.88-0.94x as fast, and 0.61x in the Cornell box, whose flat walls it thickens;
-/// primary rays and bounces 0.95-1.00x but for a 327k-face mesh's bounces, 1.06x. See
-/// docs/performance.md.)
+/// lane holds an empty box, which no ray enters. The root is node 0. (Tried: each bound
+/// as 8 bits from a corner of the node, a node in two cache lines: slower on shadow rays,
+/// most in rooms, whose flat walls it thickens; `docs/performance.md`.)
 #[derive(Clone, Copy, Debug)]
 #[repr(C, align(64))]
 pub(super) struct Node {

@@ -70,8 +70,8 @@ struct Lanes {
 }
 
 /// Stack sizes: for trees of depth up to 12, and for every tree the build makes
-/// (`MAX_DEPTH` levels at most). (Tried: a third, for trees of depth 2; with eight lanes its
-/// walk ran a quarter slower on the Cornell box than the same walk with this stack.)
+/// (`MAX_DEPTH` levels at most). (Tried: a third, for trees of depth 2; slower on the
+/// Cornell box.)
 const SHALLOW: usize = (WIDTH - 1) * 12;
 const DEEP: usize = (WIDTH - 1) * MAX_DEPTH;
 
@@ -227,8 +227,7 @@ const STEP: f64 = f32::MIN_POSITIVE as f64;
 /// Bit `k` set where the ray enters child `k` (`t[k]` finite): a comparison and a mask
 /// per four lanes, through the `wide` crate (SSE's `cmpltps` and `movmskps`; in the AVX2 path, two
 /// comparisons and one mask). (Tried: a loop of `m | (t[k] < inf) << k`, which LLVM
-/// compiles to some thirty scalar instructions: 4% more instructions per closest hit on
-/// the bunny.)
+/// compiles to scalar instructions, one per lane and more.)
 #[inline(always)]
 fn entered_bits(t: &[f32; WIDTH]) -> u32 {
     let infinite = wide::f32x4::splat(f32::INFINITY);
