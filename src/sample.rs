@@ -118,7 +118,8 @@ const RETREAT: [f64; 6] = [
 
 /// The first of `sample(k)`, for the factors `k` of [`RETREAT`], that `reaches`; the first
 /// sample if none does (a shape too small or far to aim at from `origin`, which has
-/// density 0 there in every direction).
+/// density 0 there in every direction), or the zero vector where that is not finite (a
+/// sampler's arithmetic past its range: no direction, rather than NaN).
 #[inline]
 pub(crate) fn reaching(
     mut sample: impl FnMut(f64) -> DVec3,
@@ -132,7 +133,11 @@ pub(crate) fn reaching(
         .iter()
         .map(|&k| sample(k))
         .find(|&d| reaches(d))
-        .unwrap_or(first)
+        .unwrap_or(if first.is_finite() {
+            first
+        } else {
+            DVec3::ZERO
+        })
 }
 
 /// `v` as a unit vector, for any finite, non-zero `v` (scaled first, so that its square

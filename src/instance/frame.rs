@@ -31,6 +31,13 @@ pub trait Frame: Copy + core::fmt::Debug + PartialEq + Send + Sync + sealed::Sea
     #[doc(hidden)]
     fn hit_to_world(&self, hit: HitRecord, translation: DVec3) -> HitRecord;
 
+    /// A bound on the point error [`Frame::hit_to_world`] gives a hit within `magnitude`
+    /// (per axis) of the object's origin whose own error is at most that magnitude: where
+    /// it is not finite, the instance answers every query through `hit`, which checks the
+    /// record it moves.
+    #[doc(hidden)]
+    fn error_bound(&self, magnitude: DVec3, translation: DVec3) -> DVec3;
+
     /// The object's `density` over solid angle for the direction that is `direction` in
     /// world space, as a density over world-space solid angle: finite, and positive where
     /// `density` is.
@@ -115,6 +122,14 @@ impl Frame for Rigid {
             shading_normal: self.rotation * hit.shading_normal,
             ..hit
         }
+    }
+
+    fn error_bound(&self, magnitude: DVec3, translation: DVec3) -> DVec3 {
+        let moved = self.rotation.abs() * magnitude;
+        let world = moved + translation.abs();
+        (1.0 + gamma(4)) * moved
+            + gamma(5) * world
+            + DVec3::splat(gamma(5) * (world + translation.abs()).element_sum())
     }
 
     #[inline]
@@ -278,6 +293,16 @@ impl Frame for Affine {
             shading_normal: self.normal_to_world(hit.shading_normal),
             ..hit
         }
+    }
+
+    fn error_bound(&self, magnitude: DVec3, translation: DVec3) -> DVec3 {
+        let moved = self.matrix.abs() * magnitude;
+        let world = moved + translation.abs();
+        let far = world + translation.abs();
+        (1.0 + gamma(4)) * moved
+            + gamma(5) * world
+            + gamma(5) * (self.back * far)
+            + (1.0 + gamma(2)) * self.inexact * far.max_element()
     }
 
     /// Times `|det A| / |A w|^3` for the unit direction `w`, with `A` scaled to entries

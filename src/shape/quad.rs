@@ -266,8 +266,7 @@ impl<S: Interior> Quad<S> {
 
 impl<S: Interior> Hittable for Quad<S> {
     // Inlined always: in a caller's loop over quads the per-ray work is shared, and the
-    // record's registers are not saved around a call (1.55x -> 1.40x the book's time per
-    // ray through a box's six faces, the accuracy example's rays, in alternation).
+    // record's registers are not saved around a call (faster through a box's six faces).
     #[inline(always)]
     fn hit(&self, ray: &Ray, ray_t: Interval) -> Option<HitRecord> {
         self.build(ray, self.decide(ray, ray_t)?)
@@ -353,22 +352,9 @@ impl<S: SampleInterior> PdfHittable for Quad<S> {
     /// wherever that is not a finite number: an origin in the plane, a grazing direction
     /// whose density overflows, an invalid ray.
     fn pdf_value(&self, origin: DVec3, direction: DVec3) -> f64 {
-        // A density over solid angle: the direction's length is free, and one of ordinary
-        // length (an exact scaling) keeps `t` within f64's range.
-        let direction = direction * direction_scale(direction);
-        let Some(hit) = self.reached(origin, direction) else {
-            return 0.0;
-        };
-        if let Some(view) = self.spherical(origin) {
-            return 1.0 / view.solid_angle();
-        }
-        // Through the unit direction and its length: no overflow in |d|^2 for long ones.
-        let (unit, length) = unit_and_length(direction);
-        let distance = hit.t * length;
-        let cosine = self.plane().normal().dot(unit).abs();
-        let pdf = distance * distance / (cosine * self.area());
-        // Also rejects NaN (0 / 0).
-        if pdf < f64::INFINITY { pdf } else { 0.0 }
+        self.density(origin, direction, || {
+            self.spherical(origin).map(|view| view.solid_angle())
+        })
     }
 
     /// The unit direction toward the point `p = q + alpha u + beta v` at
@@ -389,8 +375,13 @@ impl<S: SampleInterior> PdfHittable for Quad<S> {
         let plane = self.plane();
         let sample = |k: f64| {
             let u = toward_middle(u, k);
+            // A solid-angle sample that is not finite (an origin within rounding of a
+            // corner) is drawn by area instead.
             if let Some(view) = &view {
-                return unit_direction(view.sample(plane, origin, u));
+                let d = view.sample(plane, origin, u);
+                if d.is_finite() {
+                    return unit_direction(d);
+                }
             }
             let at = self.shape().sample(u);
             let toward = |k: f64| {
@@ -405,11 +396,42 @@ impl<S: SampleInterior> PdfHittable for Quad<S> {
                 toward(0.25)
             })
         };
-        reaching(sample, |d| self.reached(origin, d).is_some())
+        // By the density itself (not only by whether the direction reaches the shape): a
+        // grazing direction can reach it with a density past f64's range, which is 0.
+        let solid_angle = view.as_ref().map(View::solid_angle);
+        reaching(sample, |d| self.density(origin, d, || solid_angle) > 0.0)
     }
 }
 
 impl<S: SampleInterior> Quad<S> {
+    /// [`PdfHittable::pdf_value`], with the solid angle of the view it is sampled by
+    /// (`None`: sampled by area) asked of `solid_angle` only where the direction reaches
+    /// the shape.
+    #[inline]
+    fn density(
+        &self,
+        origin: DVec3,
+        direction: DVec3,
+        solid_angle: impl FnOnce() -> Option<f64>,
+    ) -> f64 {
+        // A density over solid angle: the direction's length is free, and one of ordinary
+        // length (an exact scaling) keeps `t` within f64's range.
+        let direction = direction * direction_scale(direction);
+        let Some(hit) = self.reached(origin, direction) else {
+            return 0.0;
+        };
+        if let Some(solid_angle) = solid_angle() {
+            return 1.0 / solid_angle;
+        }
+        // Through the unit direction and its length: no overflow in |d|^2 for long ones.
+        let (unit, length) = unit_and_length(direction);
+        let distance = hit.t * length;
+        let cosine = self.plane().normal().dot(unit).abs();
+        let pdf = distance * distance / (cosine * self.area());
+        // Also rejects NaN (0 / 0).
+        if pdf < f64::INFINITY { pdf } else { 0.0 }
+    }
+
     /// Where the ray from `origin` along `direction` meets the shape at `t >= 0`, by the
     /// computed crossing: the test [`PdfHittable::pdf_value`] goes by.
     #[inline]

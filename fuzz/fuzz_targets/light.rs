@@ -1,0 +1,66 @@
+//! Every light built from arbitrary numbers, sampled from an arbitrary point with an
+//! arbitrary `u` of `[0, 1)^2` (corners included): the direction and its density are
+//! never NaN or infinite (clause 4); where the light can be reached from the point at all,
+//! every sampled direction has a positive density (clause 6); and a light sample's ray
+//! finds the light at the distance it reports, with a positive, finite density.
+
+#![no_main]
+
+use hitkit::glam::DVec2;
+use hitkit::{Interval, Ray, ShadingContext};
+use hitkit_fuzz::LightInput;
+use libfuzzer_sys::fuzz_target;
+
+/// `k / 65536`, or the corner just below 1 for `u16::MAX`: every `u` in `[0, 1)`.
+fn unit(k: u16) -> f64 {
+    if k == u16::MAX {
+        1.0f64.next_down()
+    } else {
+        f64::from(k) / 65536.0
+    }
+}
+
+fuzz_target!(|input: LightInput| {
+    let Some(light) = input.light.light() else {
+        return;
+    };
+    let origin = input.origin.get();
+    // Reachable: the middle of the square samples a direction of positive density (an
+    // origin on the light's own plane, or the light past f64's reach, has none).
+    let middle = light.sample_direction(origin, DVec2::splat(0.5));
+    let reachable = light.pdf_value(origin, middle) > 0.0;
+    let at = match input.normal {
+        Some(n) => ShadingContext::on_surface(origin, n.get()),
+        None => ShadingContext::at(origin),
+    };
+    for &(x, y) in input
+        .samples
+        .iter()
+        .take(16)
+        .chain(&[(0, 0), (u16::MAX, u16::MAX)])
+    {
+        let u = DVec2::new(unit(x), unit(y));
+        let d = light.sample_direction(origin, u);
+        let pdf = light.pdf_value(origin, d);
+        assert!(
+            d.is_finite() && pdf.is_finite() && pdf >= 0.0,
+            "u {u}: {d} {pdf}"
+        );
+        if reachable && origin.is_finite() {
+            assert!(
+                pdf > 0.0,
+                "from {origin}, u {u}: direction {d} has density 0"
+            );
+        }
+        if let Some(sample) = light.sample_light(&at, u) {
+            assert!(sample.pdf > 0.0 && sample.pdf.is_finite(), "{sample:?}");
+            assert!(
+                sample.distance.is_finite() && sample.direction.is_finite(),
+                "{sample:?}"
+            );
+            let ray = Ray::new(at.point, sample.direction);
+            let hit = light.hit(&ray, Interval::FORWARD);
+            assert_eq!(hit.map(|h| h.t), Some(sample.distance), "{sample:?}");
+        }
+    }
+});

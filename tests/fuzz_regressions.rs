@@ -1,0 +1,111 @@
+//! What coverage-guided fuzzing (`fuzz/`, `cargo +nightly fuzz run TARGET`) found, each kept
+//! as the input it failed on, so that the fix stays.
+
+use hitkit::glam::{DVec2, DVec3};
+use hitkit::{PdfHittable, Quad, Triangle};
+
+/// Clause 6, seen edge on: a triangle whose plane passes within rounding of the origin
+/// (the origin is its point `alpha = beta = 1/3`, to within an ulp or two of each corner).
+/// Its middle sample reaches it by a grazing crossing with a finite density, so it can be
+/// aimed at; the corner `u = (0, 0)` drew a direction that crossed it too, but with a
+/// density past `f64`'s range, which is 0, and was returned (the sampler asked only
+/// whether its samples reach the shape, not whether their density is finite).
+#[test]
+fn a_light_seen_edge_on_samples_only_directions_with_a_density() {
+    let q = DVec3::splat(1.000_000_000_000_002_9);
+    let u = DVec3::new(0.999_999_999_999_999_8, -8.0, -4.0);
+    let v = DVec3::new(-4.0, 5.0, 1.000_000_000_000_001);
+    let light = Quad::with_interior(q, u, v, Triangle).unwrap();
+    let origin = DVec3::ZERO;
+    let middle = light.sample_direction(origin, DVec2::splat(0.5));
+    assert!(
+        light.pdf_value(origin, middle) > 0.0,
+        "the case needs a reachable light"
+    );
+    let edges = [0.0, 1e-9, 0.25, 0.5, 0.75, 1.0f64.next_down()];
+    for x in edges {
+        for y in edges {
+            let d = light.sample_direction(origin, DVec2::new(x, y));
+            let pdf = light.pdf_value(origin, d);
+            assert!(pdf > 0.0 && pdf.is_finite(), "u ({x}, {y}): {d}, pdf {pdf}");
+        }
+    }
+}
+
+/// Clause 4 at a corner: a triangle sampled by solid angle from a point within ulps of its
+/// corner `q`; the spherical sampler's arithmetic gave NaN for some `u`, and so did the
+/// direction returned. Every direction is finite now (such a sample is drawn by area).
+#[test]
+fn a_light_sampled_from_beside_its_corner_returns_no_nan() {
+    let q = DVec3::splat(1.000_000_000_000_002_9);
+    let u = DVec3::new(1.000_000_000_000_002_9, 1.0, 2.199_216_474_544_724_7e-52);
+    let v = DVec3::splat(1.000_000_000_000_011_8);
+    let light = Quad::with_interior(q, u, v, Triangle).unwrap();
+    let origin = DVec3::splat(1.000_000_000_000_011_8);
+    let edges = [
+        0.0,
+        0.207_839_965_820_312_5,
+        0.25,
+        0.5,
+        0.75,
+        1.0f64.next_down(),
+    ];
+    for x in edges {
+        for y in edges {
+            let d = light.sample_direction(origin, DVec2::new(x, y));
+            let pdf = light.pdf_value(origin, d);
+            assert!(
+                d.is_finite() && pdf.is_finite() && pdf >= 0.0,
+                "u ({x}, {y}): {d}, {pdf}"
+            );
+        }
+    }
+}
+
+/// Clause 3 and 4 under a map of extreme condition (entries from 1e-12 to 1e174): a hit's
+/// error bound, moved to the world, overflowed. `hit` turned that hit away, but a tree's
+/// two-step search (`find`, then `record`) kept it, with an infinite error bound: a tree
+/// of the one instance answered what the instance did not. Such an instance now answers
+/// every query through `hit`.
+#[test]
+fn an_instance_whose_error_bound_overflows_answers_alike_in_a_tree() {
+    use hitkit::glam::{DAffine3, DMat3};
+    use hitkit::{Bvh, Hittable, Interval, Ray, Transformed};
+    let quad = Quad::new(
+        DVec3::splat(0.811_752_319_335_937_5),
+        DVec3::splat(0.811_752_319_335_937_5),
+        DVec3::new(
+            2.435_572_344_854_152_5e64,
+            1.000_000_000_000_017,
+            1.525_878_906_25e-5,
+        ),
+    )
+    .unwrap();
+    let matrix = DMat3::from_cols(
+        DVec3::new(1.858_423_848_185_522_3e63, 161.578_125, 1_689_389_744_000.3),
+        DVec3::new(0.999_999_999_999_982_7, 1.397_688_586_966_101_6e174, 1.0),
+        DVec3::new(
+            2.050_781_25e-12,
+            1.000_000_000_000_022_4,
+            1.000_000_000_000_017,
+        ),
+    );
+    let offset = DVec3::new(1.000_000_000_000_017, 4.0, 1.0);
+    let instance =
+        Transformed::affine(quad, DAffine3::from_mat3_translation(matrix, offset)).unwrap();
+    let ray = Ray::new(
+        DVec3::new(0.999_999_999_999_982_7, 0.301_055_908_203_125, -8.0),
+        DVec3::new(0.698_028_564_453_125, 1.0, 0.999_999_999_999_984_2),
+    );
+    let alone = instance.hit(&ray, Interval::FORWARD);
+    let tree = Bvh::new(vec![instance]);
+    let found = tree.hit(&ray, Interval::FORWARD);
+    assert_eq!(found.map(|h| h.t), alone.map(|h| h.t));
+    assert_eq!(tree.occluded(&ray, Interval::FORWARD), alone.is_some());
+    for hit in [found, alone].into_iter().flatten() {
+        assert!(
+            hit.point.is_finite() && hit.point_error.is_finite(),
+            "{hit:?}"
+        );
+    }
+}
