@@ -34,8 +34,8 @@ const MAX_DEPTH: usize = 64;
 /// the triad.)
 pub(crate) const WIDTH: usize = 8;
 
-/// What one query cost in a tree, counted by [`Bvh::hit_visits`],
-/// [`Bvh::occluded_visits`] and their [`TriangleMesh`](crate::TriangleMesh) namesakes.
+/// What one query cost in a tree, counted by [`Bvh::hit_visits`](crate::Bvh::hit_visits),
+/// [`Bvh::occluded_visits`](crate::Bvh::occluded_visits) and their [`TriangleMesh`](crate::TriangleMesh) namesakes.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Visits {
     /// Nodes whose children's boxes were tested (a node holds up to eight children).
@@ -45,7 +45,7 @@ pub struct Visits {
 }
 
 /// A tree's cost by the surface area heuristic, when it was built and now, after updates
-/// moved its objects: what says when to rebuild it. See [`Bvh::cost`] and
+/// moved its objects: what says when to rebuild it. See [`Bvh::cost`](crate::Bvh::cost) and
 /// [`TriangleMesh::cost`](crate::TriangleMesh::cost).
 ///
 /// The cost is the expected work of a ray that meets the tree's box, in units of one
