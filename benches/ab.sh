@@ -52,7 +52,7 @@ for round in $(seq 1 "$rounds"); do
             echo "round $round, $rev:"
             "$work/$side/target/release/hitkit-peers" \
                 --obj "$top/../shared/data/stanford-bunny.obj" "$@" 2>/dev/null |
-                grep -E '^\| [^|]+\| ([0-9]+ \| hitkit( TriangleMesh)? \||hitkit[^|]*\|( [0-9.]+ \|){3}$)' || true
+                grep -E '^\| [^|]+\| ([0-9]+ \| hitkit( TriangleMesh)? \||hitkit[^|]*\|( [0-9.]+( \([^)]*\))? \|){3}$)' || true
         else
             start=$(date +%s.%N)
             "$work/$side/target/release/examples/$what" "$@" --output "$work/$what-$side.png" >/dev/null 2>&1

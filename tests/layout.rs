@@ -472,8 +472,10 @@ fn the_check_sees_known_imports() {
     assert!(folders["mesh"].contains("aabb"), "{:?}", folders["mesh"]);
 }
 
+/// Prints both graphs, for redrawing `docs/layout.md`:
+/// `cargo test --test layout -- --ignored --nocapture`.
 #[test]
-#[ignore]
+#[ignore = "prints the import graphs; asserts nothing"]
 fn print_graph() {
     let (paths, files, folders) = graphs();
     for (a, bs) in &folders {
