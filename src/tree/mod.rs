@@ -34,8 +34,10 @@ const MAX_DEPTH: usize = 64;
 /// the triad.)
 pub(crate) const WIDTH: usize = 8;
 
-/// What one query cost in a tree, counted by [`Bvh::hit_visits`](crate::Bvh::hit_visits),
-/// [`Bvh::occluded_visits`](crate::Bvh::occluded_visits) and their [`TriangleMesh`](crate::TriangleMesh) namesakes.
+/// What one query cost in a tree, counted by
+/// [`Bvh::hit_visits`](crate::Bvh::hit_visits),
+/// [`Bvh::occluded_visits`](crate::Bvh::occluded_visits) and their
+/// [`TriangleMesh`](crate::TriangleMesh) namesakes.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Visits {
     /// Nodes whose children's boxes were tested (a node holds up to eight children).
@@ -171,75 +173,6 @@ impl Tree {
     }
 }
 
-#[cfg(test)]
-use {crate::Aabb, crate::math::Dd, alloc::vec, proptest::prelude::*};
-
-#[cfg(test)]
-impl Tree {
-    /// Levels of nodes the traversal's stack is sized for.
-    pub(crate) fn depth(&self) -> usize {
-        self.depth
-    }
-
-    /// What every tree must hold, however it was changed: each position of the tree in
-    /// exactly one leaf (`leaf` is told each position and its leaf's name); each object's box inside every lane on its
-    /// way down (as traversal computes them: `origin + bound` in `f64`); the rounding the
-    /// `f32` lanes allow for covering every bound's; no more levels than `depth`.
-    /// Returns the levels of nodes.
-    pub(crate) fn check(
-        &self,
-        bbox: impl Fn(usize) -> Aabb,
-        mut leaf: impl FnMut(usize, usize) -> Result<(), TestCaseError>,
-    ) -> Result<usize, TestCaseError> {
-        let tree = self;
-        let mut seen = vec![0u32; tree.bounded];
-        // (node, boxes of the lanes above it)
-        let mut stack = vec![(0usize, 1usize, Vec::<(DVec3, DVec3)>::new())];
-        let mut levels = 0;
-        while let Some((n, level, above)) = stack.pop().filter(|_| !tree.nodes.is_empty()) {
-            prop_assert!(level <= tree.depth);
-            levels = levels.max(level);
-            let node = &tree.nodes[n];
-            for k in 0..WIDTH {
-                let world = |side: usize| {
-                    DVec3::from_array(
-                        [0, 1, 2].map(|a| tree.origin[a] + f64::from(node.bounds[side + a][k])),
-                    )
-                };
-                let mut path = above.clone();
-                path.push((world(0), world(3)));
-                if node.count[k] > 0 {
-                    let first = node.index[k] as usize;
-                    let range = first..first + node.count[k] as usize;
-                    for (p, times) in range.clone().zip(&mut seen[range]) {
-                        *times += 1;
-                        leaf(p, n * WIDTH + k)?;
-                        let b = bbox(p);
-                        for (lo, hi) in &path {
-                            prop_assert!(lo.cmple(b.min()).all() && hi.cmpge(b.max()).all());
-                        }
-                    }
-                } else if node.index[k] != 0 {
-                    stack.push((node.index[k] as usize, level + 1, path));
-                }
-                for side in 0..6 {
-                    let f = node.bounds[side][k];
-                    if f.is_finite() {
-                        let a = side % 3;
-                        let error = Dd::diff(tree.origin[a], -f64::from(f)).lo.abs();
-                        prop_assert!(error <= tree.rounding[a]);
-                    }
-                }
-            }
-        }
-        prop_assert!(
-            seen.iter().all(|&s| s == 1),
-            "a position in no leaf or in two"
-        );
-        Ok(levels)
-    }
-}
-
 /// The closest-hit rule of every search in the crate: a crossing at `t` (never beyond the
 /// best so far, `t_max`, which the search passes as its upper bound) of the object
 /// numbered `index` wins over the best so far, numbered `best`, where it is nearer or, at
@@ -248,4 +181,83 @@ impl Tree {
 #[inline(always)]
 pub(crate) fn wins(t: f64, index: usize, t_max: f64, best: Option<usize>) -> bool {
     t < t_max || best.is_none_or(|best| index < best)
+}
+
+/// What every tree must hold, for the tests of its owners.
+#[cfg(test)]
+mod check {
+    use alloc::vec;
+
+    use proptest::prelude::*;
+
+    use super::{Tree, WIDTH};
+    use crate::Aabb;
+    use crate::math::Dd;
+    use alloc::vec::Vec;
+    use glam::DVec3;
+
+    impl Tree {
+        /// Levels of nodes the traversal's stack is sized for.
+        pub(crate) fn depth(&self) -> usize {
+            self.depth
+        }
+
+        /// What every tree must hold, however it was changed: each position of the tree in
+        /// exactly one leaf (`leaf` is told each position and its leaf's name); each object's box inside every lane on its
+        /// way down (as traversal computes them: `origin + bound` in `f64`); the rounding the
+        /// `f32` lanes allow for covering every bound's; no more levels than `depth`.
+        /// Returns the levels of nodes.
+        pub(crate) fn check(
+            &self,
+            bbox: impl Fn(usize) -> Aabb,
+            mut leaf: impl FnMut(usize, usize) -> Result<(), TestCaseError>,
+        ) -> Result<usize, TestCaseError> {
+            let tree = self;
+            let mut seen = vec![0u32; tree.bounded];
+            // (node, boxes of the lanes above it)
+            let mut stack = vec![(0usize, 1usize, Vec::<(DVec3, DVec3)>::new())];
+            let mut levels = 0;
+            while let Some((n, level, above)) = stack.pop().filter(|_| !tree.nodes.is_empty()) {
+                prop_assert!(level <= tree.depth);
+                levels = levels.max(level);
+                let node = &tree.nodes[n];
+                for k in 0..WIDTH {
+                    let world = |side: usize| {
+                        DVec3::from_array(
+                            [0, 1, 2].map(|a| tree.origin[a] + f64::from(node.bounds[side + a][k])),
+                        )
+                    };
+                    let mut path = above.clone();
+                    path.push((world(0), world(3)));
+                    if node.count[k] > 0 {
+                        let first = node.index[k] as usize;
+                        let range = first..first + node.count[k] as usize;
+                        for (p, times) in range.clone().zip(&mut seen[range]) {
+                            *times += 1;
+                            leaf(p, n * WIDTH + k)?;
+                            let b = bbox(p);
+                            for (lo, hi) in &path {
+                                prop_assert!(lo.cmple(b.min()).all() && hi.cmpge(b.max()).all());
+                            }
+                        }
+                    } else if node.index[k] != 0 {
+                        stack.push((node.index[k] as usize, level + 1, path));
+                    }
+                    for side in 0..6 {
+                        let f = node.bounds[side][k];
+                        if f.is_finite() {
+                            let a = side % 3;
+                            let error = Dd::diff(tree.origin[a], -f64::from(f)).lo.abs();
+                            prop_assert!(error <= tree.rounding[a]);
+                        }
+                    }
+                }
+            }
+            prop_assert!(
+                seen.iter().all(|&s| s == 1),
+                "a position in no leaf or in two"
+            );
+            Ok(levels)
+        }
+    }
 }
