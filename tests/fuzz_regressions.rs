@@ -62,26 +62,28 @@ fn a_light_sampled_from_beside_its_corner_returns_no_nan() {
     }
 }
 
-/// Clause 3 and 4 under a map of extreme condition (entries from 1e-12 to 1e174): a hit's
+/// Clauses 3 and 4 under maps of extreme condition (entries from 1e-12 to 1e174): a hit's
 /// error bound, moved to the world, overflowed. `hit` turned that hit away, but a tree's
 /// two-step search (`find`, then `record`) kept it, with an infinite error bound: a tree
-/// of the one instance answered what the instance did not. Such an instance now answers
-/// every query through `hit`.
+/// of the instance answered what the instance did not. The moved bound now saturates at
+/// `f64::MAX`, and every query finds the same hit. (The second case is a hit `5e306`
+/// along the ray, whose error in object space is already far past the object's size.)
 #[test]
 fn an_instance_whose_error_bound_overflows_answers_alike_in_a_tree() {
     use hitkit::glam::{DAffine3, DMat3};
     use hitkit::{Bvh, Hittable, Interval, Ray, Transformed};
+    let long = DVec3::new(
+        2.435_572_344_854_152_5e64,
+        1.000_000_000_000_017,
+        1.525_878_906_25e-5,
+    );
     let quad = Quad::new(
         DVec3::splat(0.811_752_319_335_937_5),
         DVec3::splat(0.811_752_319_335_937_5),
-        DVec3::new(
-            2.435_572_344_854_152_5e64,
-            1.000_000_000_000_017,
-            1.525_878_906_25e-5,
-        ),
+        long,
     )
     .unwrap();
-    let matrix = DMat3::from_cols(
+    let stretched = DMat3::from_cols(
         DVec3::new(1.858_423_848_185_522_3e63, 161.578_125, 1_689_389_744_000.3),
         DVec3::new(0.999_999_999_999_982_7, 1.397_688_586_966_101_6e174, 1.0),
         DVec3::new(
@@ -90,22 +92,43 @@ fn an_instance_whose_error_bound_overflows_answers_alike_in_a_tree() {
             1.000_000_000_000_017,
         ),
     );
-    let offset = DVec3::new(1.000_000_000_000_017, 4.0, 1.0);
-    let instance =
-        Transformed::affine(quad, DAffine3::from_mat3_translation(matrix, offset)).unwrap();
-    let ray = Ray::new(
-        DVec3::new(0.999_999_999_999_982_7, 0.301_055_908_203_125, -8.0),
-        DVec3::new(0.698_028_564_453_125, 1.0, 0.999_999_999_999_984_2),
+    let sheared = DMat3::from_cols(
+        DVec3::new(1.858_423_848_185_522_3e63, 1.0, 1.000_000_000_000_008_2),
+        DVec3::new(1.000_000_000_000_014, -8.0, -2.877_773_982_515_652_2e76),
+        DVec3::splat(0.811_752_319_335_937_5),
     );
-    let alone = instance.hit(&ray, Interval::FORWARD);
-    let tree = Bvh::new(vec![instance]);
-    let found = tree.hit(&ray, Interval::FORWARD);
-    assert_eq!(found.map(|h| h.t), alone.map(|h| h.t));
-    assert_eq!(tree.occluded(&ray, Interval::FORWARD), alone.is_some());
-    for hit in [found, alone].into_iter().flatten() {
-        assert!(
-            hit.point.is_finite() && hit.point_error.is_finite(),
-            "{hit:?}"
-        );
+    let cases = [
+        (
+            stretched,
+            DVec3::new(1.000_000_000_000_017, 4.0, 1.0),
+            Ray::new(
+                DVec3::new(0.999_999_999_999_982_7, 0.301_055_908_203_125, -8.0),
+                DVec3::new(0.698_028_564_453_125, 1.0, 0.999_999_999_999_984_2),
+            ),
+        ),
+        (
+            sheared,
+            DVec3::splat(0.811_752_319_335_937_5),
+            Ray::new(
+                DVec3::new(7.0, -5.093_866_197_874_78e306, 3.051_757_812_5e-5),
+                DVec3::new(2.052_017_879_604_187e-289, 1.0, 0.0),
+            ),
+        ),
+    ];
+    for (matrix, offset, ray) in cases {
+        let map = DAffine3::from_mat3_translation(matrix, offset);
+        let instance = Transformed::affine(quad, map).unwrap();
+        let alone = instance.hit(&ray, Interval::FORWARD);
+        let tree = Bvh::new(vec![instance]);
+        let found = tree.hit(&ray, Interval::FORWARD);
+        assert!(alone.is_some(), "the case needs a hit");
+        assert_eq!(found.map(|h| h.t), alone.map(|h| h.t));
+        assert_eq!(tree.occluded(&ray, Interval::FORWARD), alone.is_some());
+        for hit in [found, alone].into_iter().flatten() {
+            assert!(
+                hit.point.is_finite() && hit.point_error.is_finite(),
+                "{hit:?}"
+            );
+        }
     }
 }

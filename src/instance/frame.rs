@@ -27,16 +27,11 @@ pub trait Frame: Copy + core::fmt::Debug + PartialEq + Send + Sync + sealed::Sea
     fn abs(&self) -> DMat3;
 
     /// An object-space hit's point, its error bound and normals in world space, for the
-    /// instance moved by `translation` (`t` is the same in both spaces).
+    /// instance moved by `translation` (`t` is the same in both spaces). An error bound
+    /// past `f64`'s range is `f64::MAX` ([`saturated`]): the same hit, whichever query
+    /// asks, and nothing infinite.
     #[doc(hidden)]
     fn hit_to_world(&self, hit: HitRecord, translation: DVec3) -> HitRecord;
-
-    /// A bound on the point error [`Frame::hit_to_world`] gives a hit within `magnitude`
-    /// (per axis) of the object's origin whose own error is at most that magnitude: where
-    /// it is not finite, the instance answers every query through `hit`, which checks the
-    /// record it moves.
-    #[doc(hidden)]
-    fn error_bound(&self, magnitude: DVec3, translation: DVec3) -> DVec3;
 
     /// The object's `density` over solid angle for the direction that is `direction` in
     /// world space, as a density over world-space solid angle: finite, and positive where
@@ -48,6 +43,13 @@ pub trait Frame: Copy + core::fmt::Debug + PartialEq + Send + Sync + sealed::Sea
     /// without overflow; the zero vector for a zero direction.
     #[doc(hidden)]
     fn direction_to_world(&self, local: DVec3) -> DVec3;
+}
+
+/// An error bound within `f64`'s range: `f64::MAX` where it overflowed (a map of extreme
+/// condition, a hit far along the ray), still a bound on a finite point's error.
+#[inline]
+fn saturated(error: DVec3) -> DVec3 {
+    error.min(DVec3::splat(f64::MAX))
 }
 
 mod sealed {
@@ -116,20 +118,12 @@ impl Frame for Rigid {
         let back = gamma(5) * (point.abs() + translation.abs()).element_sum();
         HitRecord {
             point,
-            point_error: carried + rounding + DVec3::splat(back),
+            point_error: saturated(carried + rounding + DVec3::splat(back)),
             // Unit length to within a few ulps: the rotation is orthonormal to rounding.
             normal: self.rotation * hit.normal,
             shading_normal: self.rotation * hit.shading_normal,
             ..hit
         }
-    }
-
-    fn error_bound(&self, magnitude: DVec3, translation: DVec3) -> DVec3 {
-        let moved = self.rotation.abs() * magnitude;
-        let world = moved + translation.abs();
-        (1.0 + gamma(4)) * moved
-            + gamma(5) * world
-            + DVec3::splat(gamma(5) * (world + translation.abs()).element_sum())
     }
 
     #[inline]
@@ -288,21 +282,11 @@ impl Frame for Affine {
             + (1.0 + gamma(2)) * self.inexact * magnitude.max_element();
         HitRecord {
             point,
-            point_error: carried + rounding + back,
+            point_error: saturated(carried + rounding + back),
             normal: self.normal_to_world(hit.normal),
             shading_normal: self.normal_to_world(hit.shading_normal),
             ..hit
         }
-    }
-
-    fn error_bound(&self, magnitude: DVec3, translation: DVec3) -> DVec3 {
-        let moved = self.matrix.abs() * magnitude;
-        let world = moved + translation.abs();
-        let far = world + translation.abs();
-        (1.0 + gamma(4)) * moved
-            + gamma(5) * world
-            + gamma(5) * (self.back * far)
-            + (1.0 + gamma(2)) * self.inexact * far.max_element()
     }
 
     /// Times `|det A| / |A w|^3` for the unit direction `w`, with `A` scaled to entries

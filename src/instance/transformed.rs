@@ -48,9 +48,8 @@ pub struct Transformed<T, F = Rigid> {
     frame: F,
     translation: DVec3,
     bbox: Aabb,
-    /// Whether the box reaches near f64's end ([`Aabb::near_overflow`]), or the frame's
-    /// error bound can overflow ([`Frame::error_bound`]), where moving a hit can overflow:
-    /// settled once here, not on every `occluded`.
+    /// Whether the box reaches near f64's end ([`Aabb::near_overflow`]), where moving a hit
+    /// can overflow: settled once here, not on every `occluded`.
     near_overflow: bool,
     instance: Option<u32>,
 }
@@ -184,17 +183,11 @@ impl<T: Hittable, F: Frame> Transformed<T, F> {
             // Moved past f64's range.
             return Err(GeometryError::OutOfRange);
         }
-        // Where a moved record's error bound can overflow (a map of extreme condition),
-        // every query goes through `hit`, which checks each record (with room for the
-        // object's own error, which the bound takes as large as the box).
-        let magnitude = object_box.min().abs().max(object_box.max().abs());
-        let error_overflows = object_box.is_bounded()
-            && !(4.0 * frame.error_bound(magnitude, translation)).is_finite();
         Ok(Self {
             object,
             frame,
             translation,
-            near_overflow: bbox.near_overflow() || error_overflows,
+            near_overflow: bbox.near_overflow(),
             bbox,
             instance: None,
         })
@@ -327,7 +320,7 @@ impl<T: Hittable, F: Frame> Hittable for Transformed<T, F> {
         }
         let mut hit = self.hit_to_world(self.object.hit(&self.ray_to_object(ray), ray_t)?);
         hit.t = instance::settle(&self.bbox, ray, ray_t, hit.t)?;
-        (hit.point.is_finite() && hit.point_error.is_finite()).then_some(hit)
+        hit.point.is_finite().then_some(hit)
     }
 
     /// The box of the object's box moved, grown by the rounding of moving it;
