@@ -1,6 +1,8 @@
 //! Next-event estimation: where light is gathered ([`ShadingContext`]) and a point sampled
 //! on a light as seen from there ([`LightSample`]), which
-//! [`HitRecord::spawn_ray_to`](crate::HitRecord::spawn_ray_to) turns into a shadow ray.
+//! [`HitRecord::spawn_ray_to`](crate::HitRecord::spawn_ray_to) turns into a shadow ray;
+//! and what every light's sampler shares (`reaching`: the retreat toward the middle of the
+//! square that keeps the contract's clause 6; unit directions).
 
 use glam::{DVec2, DVec3};
 
