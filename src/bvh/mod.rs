@@ -332,7 +332,9 @@ impl<T: Hittable> Bvh<T> {
                         }
                     };
                     if let Some(found) = candidate
-                        && wins(found.t, index, *t_max, closest.map(|(best, _, _)| best))
+                        && wins(found.t, *t_max, || {
+                            (index, closest.map(|(best, _, _)| best))
+                        })
                     {
                         if found.is_made() {
                             free ^= 1;
@@ -421,12 +423,7 @@ impl<T: Hittable> Bvh<T> {
                 let index = index as usize;
                 if sees(ray, object)
                     && let Some(hit) = object.hit(ray, Interval::new(ray_t.min, *t_max))
-                    && wins(
-                        hit.t,
-                        index,
-                        *t_max,
-                        closest.as_ref().map(|(best, _)| *best),
-                    )
+                    && wins(hit.t, *t_max, || (index, closest.as_ref().map(|(b, _)| *b)))
                 {
                     *t_max = hit.t;
                     closest = Some((index, hit));

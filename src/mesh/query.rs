@@ -119,12 +119,10 @@ impl TriangleMesh {
                         ray,
                         Interval::new(ray_t.min, *t_max),
                         position,
-                    ) && wins(
-                        c.t,
-                        order[position] as usize,
-                        *t_max,
-                        closest.map(|(best, _)| order[best] as usize),
-                    ) && accept(position, &c)
+                    ) && wins(c.t, *t_max, || {
+                        let best = closest.map(|(best, _)| order[best] as usize);
+                        (order[position] as usize, best)
+                    }) && accept(position, &c)
                     {
                         *t_max = c.t;
                         closest = Some((position, c));

@@ -174,13 +174,17 @@ impl Tree {
 }
 
 /// The closest-hit rule of every search in the crate: a crossing at `t` (never beyond the
-/// best so far, `t_max`, which the search passes as its upper bound) of the object
-/// numbered `index` wins over the best so far, numbered `best`, where it is nearer or, at
-/// the same `t`, of lower number: the answer a slice gives, in whatever order a tree
-/// meets its objects.
+/// best so far, `t_max`, which the search passes as its upper bound) wins over the best so
+/// far where it is nearer or, at the same `t`, of lower number: the answer a slice gives,
+/// in whatever order a tree meets its objects. `numbers` gives the crossing's object number
+/// and the best's (`None`: no best yet), asked only on a tie, which is rare, so that a
+/// search looks its numbers up only then.
 #[inline(always)]
-pub(crate) fn wins(t: f64, index: usize, t_max: f64, best: Option<usize>) -> bool {
-    t < t_max || best.is_none_or(|best| index < best)
+pub(crate) fn wins(t: f64, t_max: f64, numbers: impl FnOnce() -> (usize, Option<usize>)) -> bool {
+    t < t_max || {
+        let (index, best) = numbers();
+        best.is_none_or(|best| index < best)
+    }
 }
 
 /// What every tree must hold, for the tests of its owners.

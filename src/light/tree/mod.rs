@@ -273,7 +273,7 @@ impl<T: PdfHittable> Hittable for LightTree<T> {
             if node.leaf {
                 let i = node.index as usize;
                 if let Some(hit) = self.lights[i].hit(ray, reach)
-                    && wins(hit.t, i, reach.max, best.as_ref().map(|(j, _)| *j))
+                    && wins(hit.t, reach.max, || (i, best.as_ref().map(|(j, _)| *j)))
                 {
                     best = Some((i, hit));
                 }
