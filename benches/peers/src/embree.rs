@@ -12,7 +12,7 @@ use embree3::{
 use hitkit::Ray;
 
 use crate::Hit;
-use crate::triad::{Library, ftz_daz};
+use crate::library::{Library, ftz_daz};
 
 /// A scene built in Embree, and the bytes its device held after the build.
 pub struct Embree<'a> {

@@ -8,6 +8,7 @@
 
 #[cfg(feature = "embree")]
 mod embree;
+mod library;
 mod lights;
 mod triad;
 mod updates;
@@ -66,6 +67,9 @@ Options:
   --scene TEXT   with --triad: only the scenes whose names hold TEXT
   --ftz          with --triad: hitkit's rows again with the CPU's flush-to-zero and
                  denormals-are-zero modes on (x86_64), and the answers that change
+  --count        with --triad: no tables; each library chosen by --only traces each set
+                 once, in functions of their own (`count_primary`, `count_bounce`,
+                 `count_shadow`) for callgrind to count (benches/count.sh)
   --rays N       incoherent rays per scene [default: 1000000]
   --side N       camera rays: an N x N grid [default: 1000]
   --runs K       repetitions of every build and trace; the median is reported [default: 3]
@@ -91,6 +95,8 @@ struct Args {
     only: Option<String>,
     scene: Option<String>,
     ftz: bool,
+    /// With `--triad`: each set once, for an instruction counter (`benches/count.sh`).
+    count: bool,
     rays: usize,
     side: usize,
     runs: usize,
@@ -164,6 +170,7 @@ fn parse_args(mut args: impl Iterator<Item = String>) -> Result<Option<Args>, St
         only: None,
         scene: None,
         ftz: false,
+        count: false,
         rays: 1_000_000,
         side: 1_000,
         runs: 3,
@@ -193,6 +200,10 @@ fn parse_args(mut args: impl Iterator<Item = String>) -> Result<Option<Args>, St
         }
         if flag == "--ftz" {
             parsed.ftz = true;
+            continue;
+        }
+        if flag == "--count" {
+            parsed.count = true;
             continue;
         }
         if ![

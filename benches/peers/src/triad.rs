@@ -17,6 +17,7 @@ use obvhs::cwbvh::CwBvh;
 use obvhs::cwbvh::builder::{build_cwbvh, build_cwbvh_from_tris};
 use obvhs::ray::RayHit;
 
+use crate::library::{Library, ftz_daz};
 use crate::{Args, Hit, Scene, closer, f32_box, f32_up, quads};
 use hitkit_render::workloads::{self, SplitMix};
 
@@ -343,19 +344,6 @@ fn make_rays(ts: &TriadScene, mesh: &TriangleMesh, side: usize, seed: u64) -> Ra
 /// Where a shadow ray ends: at the lamp.
 const SHADOW: Interval = Interval::new(0.0, 1.0);
 
-/// One library's answers: closest hits (face number, `t`) and occlusion.
-pub(crate) trait Library {
-    fn name(&self) -> String;
-    fn closest(&self, ray: &Ray) -> Hit;
-    fn occluded(&self, ray: &Ray) -> bool;
-    /// (node visits, face tests) of a closest-hit query and of an any-hit one.
-    fn count(&self, ray: &Ray, any: bool) -> Option<(u32, u32)>;
-    /// Whether its answers are compared with the mesh's.
-    fn checked(&self) -> bool {
-        true
-    }
-}
-
 struct Mesh<'a>(TriangleMesh, &'a [usize]);
 
 /// A mesh's closest hit as the scene numbers its faces (`position`), and its `t`.
@@ -599,25 +587,6 @@ fn median(times: &mut [Duration]) -> Duration {
     times[times.len() / 2]
 }
 
-/// Sets the CPU's flush-to-zero and denormals-are-zero modes (x86_64's MXCSR bits 15 and
-/// 6) on or off, returning the register's previous value.
-#[cfg(target_arch = "x86_64")]
-pub(crate) fn ftz_daz(on: bool) -> u32 {
-    let mut old = 0u32;
-    // SAFETY: reads and writes the SSE control register only; every other bit is kept.
-    unsafe {
-        core::arch::asm!("stmxcsr [{}]", in(reg) &mut old, options(nostack));
-        let new = if on { old | 0x8040 } else { old & !0x8040 };
-        core::arch::asm!("ldmxcsr [{}]", in(reg) &new, options(nostack));
-    }
-    old
-}
-
-#[cfg(not(target_arch = "x86_64"))]
-pub(crate) fn ftz_daz(_: bool) -> u32 {
-    0
-}
-
 /// Answers of one library on the three sets.
 struct Answers {
     primary: Vec<Hit>,
@@ -650,6 +619,46 @@ fn time(lib: &dyn Library, rays: &Rays) -> [Duration; 3] {
         start.elapsed()
     };
     [closest(&rays.primary), closest(&rays.bounce), shadow]
+}
+
+/// Whether `--only` chooses `lib` (every library without it).
+fn chosen(lib: &dyn Library, args: &Args) -> bool {
+    args.only
+        .as_ref()
+        .is_none_or(|only| lib.name().contains(only.as_str()))
+}
+
+// The sets traced once each for an instruction counter, one function a set, so that
+// callgrind's `--toggle-collect` counts each apart from the builds and from the others.
+// (The mark keeps the compiler from merging the two closest-hit passes into one function.)
+#[inline(never)]
+fn count_primary(lib: &dyn Library, rays: &[Ray]) {
+    black_box("primary");
+    rays.iter().for_each(|r| {
+        black_box(lib.closest(black_box(r)));
+    });
+}
+
+#[inline(never)]
+fn count_bounce(lib: &dyn Library, rays: &[Ray]) {
+    rays.iter().for_each(|r| {
+        black_box(lib.closest(black_box(r)));
+    });
+}
+
+#[inline(never)]
+fn count_miss(lib: &dyn Library, rays: &[Ray]) {
+    black_box("miss");
+    rays.iter().for_each(|r| {
+        black_box(lib.closest(black_box(r)));
+    });
+}
+
+#[inline(never)]
+fn count_shadow(lib: &dyn Library, rays: &[Ray]) {
+    rays.iter().for_each(|r| {
+        black_box(lib.occluded(black_box(r)));
+    });
 }
 
 /// How many answers differ.
@@ -735,6 +744,7 @@ pub fn run(scenes: &[TriadScene], args: &Args) {
             Box::new(leaf),
             Box::new(MeshFind(mesh.clone())),
         ];
+        let mesh_box = mesh.bounding_box();
         let libs_mesh = mesh;
         // The ceiling, where it is built in (row 5).
         #[cfg(feature = "embree")]
@@ -754,6 +764,35 @@ pub fn run(scenes: &[TriadScene], args: &Args) {
             Filtered::new(libs_mesh, |c: &Candidate| black_box(c.uv()).x > f64::MIN),
             &position,
         )));
+        if args.count {
+            // The camera's rays turned around: from outside the scene, each misses the
+            // tree's root box, so that what they cost is a query's fixed cost.
+            let missing: Vec<Ray> = rays
+                .primary
+                .iter()
+                .map(|r| Ray::new(r.origin, -r.direction))
+                .filter(|r| !mesh_box.hit(r, Interval::FORWARD))
+                .collect();
+            // The library named exactly, where one is (the mesh's name is in two others').
+            let exact = libs.iter().any(|lib| Some(lib.name()) == args.only);
+            for lib in libs.iter().filter(|lib| {
+                chosen(lib.as_ref(), args) && (!exact || Some(lib.name()) == args.only)
+            }) {
+                eprintln!(
+                    "counting\t{name}\t{}\t{} {} {} {}",
+                    lib.name(),
+                    rays.primary.len(),
+                    rays.bounce.len(),
+                    rays.shadow.len(),
+                    missing.len(),
+                );
+                count_primary(lib.as_ref(), &rays.primary);
+                count_bounce(lib.as_ref(), &rays.bounce);
+                count_shadow(lib.as_ref(), &rays.shadow);
+                count_miss(lib.as_ref(), &missing);
+            }
+            continue;
+        }
         // Answers first (untimed), against the mesh's; then FTZ/DAZ's effect on them.
         let reference = answer(libs[0].as_ref(), &rays);
         let hits = |a: &[Hit]| a.iter().flatten().count();
@@ -840,11 +879,7 @@ pub fn run(scenes: &[TriadScene], args: &Args) {
             } else {
                 vec![]
             })
-            .filter(|&(i, _)| {
-                args.only
-                    .as_ref()
-                    .is_none_or(|only| libs[i].name().contains(only.as_str()))
-            })
+            .filter(|&(i, _)| chosen(libs[i].as_ref(), args))
             .collect();
         let mut times = vec![[Vec::new(), Vec::new(), Vec::new()]; variants.len()];
         for _ in 0..args.runs {
