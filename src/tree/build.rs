@@ -9,7 +9,7 @@ use alloc::vec::Vec;
 use glam::{DVec3, Vec4};
 
 use super::collapse::{Child, Pair, collapse, pair, plan};
-use super::node::{Box3, Node, above, below, cover};
+use super::node::{Box3, Node, Reach, above, below};
 use super::{MAX_DEPTH, Tree, WIDTH};
 use crate::Aabb;
 
@@ -147,7 +147,7 @@ impl Tree {
             nodes.reserve_exact(plans.len());
             depth = collapse(&builder.pairs, root, &plans, &mut 0, &mut nodes);
         }
-        let (rounding, compact) = rounding(&nodes, origin);
+        let reach = reach(&nodes, origin);
         let bounded = prims.len();
         let mut order: Vec<u32> = Vec::with_capacity(count);
         order.extend(prims.iter().map(Prim::index));
@@ -156,8 +156,7 @@ impl Tree {
         let tree = Self {
             nodes,
             origin,
-            rounding,
-            compact,
+            reach,
             depth,
             in_order: true,
             order,
@@ -169,17 +168,15 @@ impl Tree {
     }
 }
 
-/// Per axis, how far `origin + bound` rounds in `f64` over the nodes' finite bounds, and
-/// whether every bound lies within `2^60` of `origin`: what `Tree::rounding` and
-/// `Tree::compact` hold.
-fn rounding(nodes: &[Node], origin: DVec3) -> ([f64; 3], bool) {
-    let (mut rounding, mut compact) = ([0.0; 3], true);
+/// The [`Reach`] of the nodes' bounds about `origin`.
+fn reach(nodes: &[Node], origin: DVec3) -> Reach {
+    let mut reach = Reach::NONE;
     for node in nodes {
         for k in 0..WIDTH {
-            cover(&mut rounding, &mut compact, origin, &node.lane(k));
+            reach.cover(origin, &node.lane(k));
         }
     }
-    (rounding, compact)
+    reach
 }
 
 /// The box of some objects and the box of their (doubled) centroids.

@@ -7,7 +7,7 @@ use alloc::vec::Vec;
 use core::cmp::Reverse;
 
 use super::node::{
-    Bounds, Node, clear, cover, empty_node, grow, half_area, in_use, offsets, set_bounds, union,
+    Bounds, Node, Reach, clear, empty_node, grow, half_area, in_use, offsets, set_bounds, union,
 };
 use super::{MAX_DEPTH, Tree, WIDTH};
 use crate::Aabb;
@@ -23,10 +23,10 @@ impl Tree {
         }
         if self.nodes.is_empty() {
             self.origin = 0.5 * b.min() + 0.5 * b.max();
-            (self.rounding, self.compact) = ([0.0; 3], true);
+            self.reach = Reach::NONE;
         }
         let bounds = offsets(b, self.origin)?;
-        cover(&mut self.rounding, &mut self.compact, self.origin, &bounds);
+        self.reach.cover(self.origin, &bounds);
         Some(bounds)
     }
 

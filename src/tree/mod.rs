@@ -120,11 +120,9 @@ pub(crate) struct Tree {
     nodes: Vec<Node>,
     /// What the nodes' bounds are relative to: the centre of the bounded objects' box.
     origin: DVec3,
-    /// Per axis, the largest rounding of `origin + bound` in `f64` over the node bounds
-    /// (where traversal's `f64` test puts the boxes), and whether every bound lies within
-    /// `2^60` of `origin`; see `traverse::Lanes`, the `f32` test that relies on both.
-    rounding: [f64; 3],
-    compact: bool,
+    /// What the node bounds span about `origin`, and how they round there (see
+    /// `traverse::Lanes`, the `f32` test that relies on it).
+    reach: node::Reach,
     /// Levels of nodes (0 for an empty tree): what bounds the traversal's stack.
     depth: usize,
     /// Whether a walk of the nodes, lane by lane, depth first, meets the leaves in the
@@ -252,7 +250,8 @@ mod check {
                         if f.is_finite() {
                             let a = side % 3;
                             let error = Dd::diff(tree.origin[a], -f64::from(f)).lo.abs();
-                            prop_assert!(error <= tree.rounding[a]);
+                            prop_assert!(error <= tree.reach.rounding[a]);
+                            prop_assert!(f64::from(f).abs() <= tree.reach.extent[a]);
                         }
                     }
                 }

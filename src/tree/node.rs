@@ -82,22 +82,40 @@ impl Box3 {
     }
 }
 
-/// Grows `rounding` and `compact` (as [`rounding`] gives them) to cover the finite bounds
-/// of a box about `origin`. How far `origin + bound` rounds is found bound by bound
-/// (exactly, by two-sum): mostly not at all, since [`below`] and [`above`] pick offsets
-/// whose sum lands on the box's own coordinates; but an ulp of the origin where it cannot
-/// (about 1e-4 at 1e12), which a bound from the magnitudes alone would charge every node.
-pub(super) fn cover(
-    rounding: &mut [f64; 3],
-    compact: &mut bool,
-    origin: DVec3,
-    (min, max): &Bounds,
-) {
-    for a in 0..3 {
-        for f in [min[a], max[a]].into_iter().filter(|f| f.is_finite()) {
-            *compact &= f64::from(f).abs() <= (1u64 << 60) as f64;
-            let error = Dd::diff(origin[a], -f64::from(f)).lo.abs();
-            rounding[a] = f64::max(rounding[a], error);
+/// What the traversal's `f32` lanes need to know of all the bounds a tree holds about its
+/// origin, per axis: how far `origin + bound` rounds in `f64` (where the `f64` test puts
+/// them), the largest `|bound|`, and whether every bound lies within `2^60` of the origin
+/// (see `traverse::Lanes`). Grown by [`Reach::cover`] as bounds are written; never shrunk
+/// (a reach larger than the bounds' is still a bound on them).
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Reach {
+    pub(super) rounding: [f64; 3],
+    pub(super) extent: [f64; 3],
+    pub(super) compact: bool,
+}
+
+impl Reach {
+    /// Of no bound.
+    pub(super) const NONE: Self = Self {
+        rounding: [0.0; 3],
+        extent: [0.0; 3],
+        compact: true,
+    };
+
+    /// Grown to cover the finite bounds of a box about `origin`. How far `origin + bound`
+    /// rounds is found bound by bound (exactly, by two-sum): mostly not at all, since
+    /// [`below`] and [`above`] pick offsets whose sum lands on the box's own coordinates;
+    /// but an ulp of the origin where it cannot (about 1e-4 at 1e12), which a bound from
+    /// the magnitudes alone would charge every node.
+    pub(super) fn cover(&mut self, origin: DVec3, (min, max): &Bounds) {
+        for a in 0..3 {
+            for f in [min[a], max[a]].into_iter().filter(|f| f.is_finite()) {
+                let f = f64::from(f);
+                self.compact &= f.abs() <= (1u64 << 60) as f64;
+                self.extent[a] = self.extent[a].max(f.abs());
+                let error = Dd::diff(origin[a], -f).lo.abs();
+                self.rounding[a] = self.rounding[a].max(error);
+            }
         }
     }
 }

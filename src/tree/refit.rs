@@ -3,7 +3,7 @@
 
 use glam::DVec3;
 
-use super::node::{Bounds, Node, cover, half_area, offsets};
+use super::node::{Bounds, Node, Reach, half_area, offsets};
 use super::{Tree, WIDTH};
 use crate::Aabb;
 
@@ -26,8 +26,7 @@ impl Tree {
     ) -> Option<Aabb> {
         let mut refit = Refit {
             all: Aabb::EMPTY,
-            rounding: [0.0; 3],
-            compact: true,
+            reach: Reach::NONE,
             next: 0,
             in_order: true,
         };
@@ -46,7 +45,7 @@ impl Tree {
             }
             refit.in_order = self.in_order;
             refit.node(&mut self.nodes, 0, self.origin, &mut box_of)?;
-            (self.rounding, self.compact) = (refit.rounding, refit.compact);
+            self.reach = refit.reach;
         }
         for p in self.bounded..self.order.len() {
             refit.all = refit.all.union(&box_of(p));
@@ -99,10 +98,9 @@ impl Tree {
 struct Refit {
     /// The union of the objects' boxes so far.
     all: Aabb,
-    /// As `Tree::rounding` and `Tree::compact`, over the leaves' bounds so far (an inner
-    /// bound is a copy of one of its leaves').
-    rounding: [f64; 3],
-    compact: bool,
+    /// As `Tree::reach`, over the leaves' bounds so far (an inner bound is a copy of one of
+    /// its leaves').
+    reach: Reach,
     /// Where the tree meets its leaves in the objects' order: the position it expects next.
     next: usize,
     in_order: bool,
@@ -130,7 +128,7 @@ impl Refit {
                 self.next = first + count as usize;
                 let bounds = offsets(&b, origin)?;
                 self.all = self.all.union(&b);
-                cover(&mut self.rounding, &mut self.compact, origin, &bounds);
+                self.reach.cover(origin, &bounds);
                 bounds
             } else if index != 0 {
                 // An inner child (the root, node 0, is no one's child).
@@ -241,7 +239,7 @@ mod tests {
                     for &f in bounds.iter().filter(|f| f.is_finite()) {
                         let a = side % 3;
                         let error = crate::math::Dd::diff(o[a], -f64::from(f)).lo.abs();
-                        prop_assert!(error <= tree.rounding[a]);
+                        prop_assert!(error <= tree.reach.rounding[a]);
                     }
                 }
             }

@@ -30,49 +30,51 @@ fn entries(node: &Node, origin: &[f64; 3], ray: &BoxRay, ray_t: Interval) -> [f6
     .0
 }
 
-/// How far each `f32` distance is moved outward, relative to itself: the test's own
-/// rounding (the difference, the product, the reciprocal's rounding to `f32`: three
-/// roundings of `2^-24`) and the `f64` test's (a few of `2^-53`, and its far distance's
-/// padding), with room to spare.
-const RHO: f32 = 1.0 / (1u32 << 20) as f32;
-/// And absolutely: a distance that underflows errs by up to the smallest subnormal.
-const SIGMA: f32 = f32::MIN_POSITIVE;
-
 /// A ray set up for the `f32` test of a node's eight boxes, which never rejects a box that
 /// [`entries`] (the `f64` test on the same bounds) accepts, and never reports it entered
 /// later: so the tree still answers as the loop over its objects (the contract's clause 3).
 ///
-/// Per axis, the distance to a bound is `(bound - origin) * inv` in `f32`, with the ray's
-/// origin relative to the tree's `origin` rounded *toward* the bound for near distances and
-/// away from it for far ones, after being moved by the rounding of the `f64` test's world
-/// bounds (`Tree::rounding`): the difference is then at most (at least) the one the `f64`
-/// test takes, exactly. What remains are relative errors, a few `2^-24` here and `2^-53`
-/// there, which the entry and exit absorb by moving outward by `RHO` of themselves, and
-/// underflow, by `SIGMA`. The lanes are taken only where nothing overflows: bounds within
-/// `2^60` of the tree's origin, a ray origin within `2^62` of it, and every `|1 / d|` within
-/// `[2^-62, 2^62]` (or infinite, a zero component, whose distances are `±inf` or NaN in
-/// both tests alike), so that every distance stays below `2^125`.
+/// Per axis, the distance to a bound `f` (an offset from the tree's origin) is
+/// `f * inv + shift` in `f32`: two roundings, where the `f64` test computes
+/// `((origin + f) - o) * inv` with its own. With `r = o - origin` and `I = |inv|`, the `f32`
+/// form errs from `(f - r) * inv` by at most `2^-24` of `|f| I` (the reciprocal's rounding
+/// to `f32`) and `2^-24` of each of its two results (at most `(B + |r|) I` and a pad more,
+/// `B` the largest `|f|` the tree holds along the axis), and the `f64` test by a few
+/// `2^-53` of the same and the rounding of `origin + f` (`Reach::rounding`, times `I`),
+/// and its far distance's padding (`FAR_PAD`). So `shift` is `-r * inv` moved outward by
+/// one pad per axis and ray, `(B + |r|) I 2^-21 + 2 rounding I` (eight `2^-24` where four
+/// would do), and rounded outward to `f32`: the near distances lower bounds of the `f64`
+/// test's, the far ones upper bounds, with no pad per lane and node (Ize 2013, "Robust
+/// BVH Ray Traversal", pads per lane; Embree's robust mode pads by a constant ulp count).
+/// An absolute `2^-120` covers underflow, flushed to zero or not.
 ///
-/// A NaN distance (a ray parallel to a slab, from exactly its plane) is ignored by both
-/// tests' `max`/`min`; an unused lane's empty box gives an infinite entry, and a NaN bound,
-/// which no comparison passes.
+/// The lanes are taken only where nothing overflows and nothing is NaN: bounds within
+/// `2^60` of the tree's origin, a ray origin within `2^62` of it, and every `|inv|` within
+/// `[2^-62, 2^62]`, so that every distance stays below `2^125`; a ray with a zero
+/// direction component (an infinite reciprocal, whose distances are `±inf` or NaN) takes
+/// the `f64` test. An unused lane's empty box (`±inf` bounds) gives an infinite entry or
+/// exit, never NaN.
 struct Lanes {
     /// Per axis: the index into `Node::bounds` of the near bound, and of the far one.
     near: [usize; 3],
     far: [usize; 3],
-    /// The origin relative to the tree's, rounded for the near bounds and for the far ones,
-    /// and the reciprocal direction.
-    origin_near: [f32; 3],
-    origin_far: [f32; 3],
+    /// The reciprocal direction, and `-r * inv` moved outward for the near and far bounds.
     inv: [f32; 3],
+    near_shift: [f32; 3],
+    far_shift: [f32; 3],
     /// `ray_t.min`, rounded down to `f32`.
     lo: f32,
 }
 
-/// Stack sizes: for trees of depth up to 12, and for every tree the build makes
-/// (`MAX_DEPTH` levels at most). (Tried: a third, for trees of depth 2; slower on the
-/// Cornell box.)
-const SHALLOW: usize = (WIDTH - 1) * 12;
+/// The pad's relative part (see [`Lanes`]).
+const PAD: f64 = 1.0 / (1u32 << 21) as f64;
+
+/// Stack entries kept in the walk's frame: the pending children of three levels of nodes
+/// whose every child the ray enters, where a walk mostly enters one or two; a walk that
+/// needs more goes on on a stack for the deepest tree the build makes ([`DEEP`]). (The
+/// frame's stack is zeroed on every walk: the kilobyte it was cost about 70 instructions a
+/// ray, in callgrind on the triad's bunny.)
+const SMALL: usize = 24;
 const DEEP: usize = (WIDTH - 1) * MAX_DEPTH;
 
 /// Limits within which the `f32` distances cannot overflow (see [`Lanes`]).
@@ -80,9 +82,29 @@ const ORIGIN_LIMIT: f64 = (1u64 << 62) as f64;
 const INV_LIMIT: f64 = (1u64 << 62) as f64;
 
 /// A box test of a node's children: (lower bounds on) where the ray enters each within
-/// `[ray_t.min, t_max]` (`+inf` where it misses).
+/// `[ray_t.min, limit]`, and as bits the children it enters (`limit` is `t_max` in the
+/// test's units, and rounded up to `f32`, as [`Entries::limit`] makes it).
 trait Entries {
-    fn entries(&self, node: &Node, t_max: f64) -> [f32; WIDTH];
+    fn entries(&self, node: &Node, limit: Limit) -> ([f32; WIDTH], u32);
+}
+
+/// `t_max` in the box test's units (`f64`), and rounded up to `f32`: made once each time
+/// `t_max` changes, not per node.
+#[derive(Clone, Copy)]
+struct Limit {
+    scaled: f64,
+    up: f32,
+}
+
+impl Limit {
+    #[inline(always)]
+    fn new(box_ray: &BoxRay, t_max: f64) -> Self {
+        let scaled = box_ray.scaled_max(t_max);
+        Self {
+            scaled,
+            up: up(DVec3::splat(scaled.min(f64::from(f32::MAX)))).x,
+        }
+    }
 }
 
 /// The `f64` test ([`entries`]) for rays the lanes cannot take.
@@ -95,12 +117,12 @@ struct Reference {
 impl Entries for Reference {
     /// Entries rounded down: still lower bounds (`f32::MAX` for one past `f32`'s range).
     #[inline(always)]
-    fn entries(&self, node: &Node, t_max: f64) -> [f32; WIDTH] {
-        entries(
+    fn entries(&self, node: &Node, limit: Limit) -> ([f32; WIDTH], u32) {
+        let t = entries(
             node,
             &self.origin,
             &self.ray,
-            Interval::new(self.min, t_max),
+            Interval::new(self.min, limit.scaled),
         )
         .map(|t| {
             if t < f64::INFINITY {
@@ -108,14 +130,15 @@ impl Entries for Reference {
             } else {
                 f32::INFINITY
             }
-        })
+        });
+        (t, entered_bits(&t, &[f32::MAX; WIDTH]))
     }
 }
 
 impl Entries for Lanes {
     #[inline(always)]
-    fn entries(&self, node: &Node, t_max: f64) -> [f32; WIDTH] {
-        self.entries(node, t_max)
+    fn entries(&self, node: &Node, limit: Limit) -> ([f32; WIDTH], u32) {
+        self.entries(node, limit.up)
     }
 }
 
@@ -127,80 +150,66 @@ impl Lanes {
         let inv = box_ray.inv_direction;
         let relative = ray.origin - tree.origin;
         let magnitude = inv.abs();
-        let inv_ok = magnitude.cmpeq(DVec3::INFINITY)
-            | (magnitude.cmpge(DVec3::splat(1.0 / INV_LIMIT))
-                & magnitude.cmple(DVec3::splat(INV_LIMIT)));
-        // (A NaN relative origin fails the comparison.)
-        let origin_ok = relative.abs().cmple(DVec3::splat(ORIGIN_LIMIT));
-        if !(tree.compact && inv_ok.all() && origin_ok.all())
-            || ray_t.min.is_nan()
-            || ray_t.max.is_nan()
-        {
+        // (A NaN fails the comparisons.)
+        let within = magnitude.cmpge(DVec3::splat(1.0 / INV_LIMIT))
+            & magnitude.cmple(DVec3::splat(INV_LIMIT))
+            & relative.abs().cmple(DVec3::splat(ORIGIN_LIMIT));
+        if !(tree.reach.compact && within.all()) || ray_t.min.is_nan() || ray_t.max.is_nan() {
             return None;
         }
-        // The f64 test's bounds round by up to `rounding`, and `relative` by an ulp of
-        // itself; twice both covers them and the rounding of these sums.
-        let slack = 2.0 * (DVec3::from(tree.rounding) + relative.abs() * f64::EPSILON);
-        let (above, below) = (up(relative + slack), down(relative - slack));
+        let reach = &tree.reach;
+        let pad = (DVec3::from(reach.extent) + relative.abs()) * magnitude * PAD
+            + 2.0 * DVec3::from(reach.rounding) * magnitude
+            + DVec3::splat(2f64.powi(-120));
+        // Rounded outward to `f32` as [`up`] and [`down`] round, their step folded into the
+        // pad.
+        let shift = -relative * inv;
+        let pad = pad + shift.abs() * f64::from(f32::EPSILON) + DVec3::splat(STEP);
+        let (near_shift, far_shift) = ((shift - pad).as_vec3(), (shift + pad).as_vec3());
         let mut lanes = Self {
             near: [0; 3],
             far: [0; 3],
-            origin_near: [0.0; 3],
-            origin_far: [0.0; 3],
-            inv: [0.0; 3],
+            inv: inv.as_vec3().to_array(),
+            near_shift: near_shift.to_array(),
+            far_shift: far_shift.to_array(),
             lo: down(DVec3::splat(ray_t.min.max(-f64::from(f32::MAX)))).x,
         };
         // A start at zero or after is kept at zero or after: rounded down it would be a
-        // step below zero, which every box the ray starts in would carry into its entry
-        // and the padding of it, and the step's magnitude would be all the entry has.
+        // step below zero, which every box the ray starts in would carry into its entry.
         if ray_t.min >= 0.0 {
             lanes.lo = lanes.lo.max(0.0);
         }
         for axis in 0..3 {
-            // Toward the bound: a near distance no larger than the f64 test's, a far one
-            // no smaller.
-            let (near, far, origin_near, origin_far) = if box_ray.negative[axis] {
-                (3 + axis, axis, below[axis], above[axis])
-            } else {
-                (axis, 3 + axis, above[axis], below[axis])
-            };
-            lanes.near[axis] = near;
-            lanes.far[axis] = far;
-            lanes.origin_near[axis] = origin_near;
-            lanes.origin_far[axis] = origin_far;
-            lanes.inv[axis] = inv[axis] as f32;
+            let negative = box_ray.negative[axis];
+            lanes.near[axis] = if negative { 3 + axis } else { axis };
+            lanes.far[axis] = if negative { axis } else { 3 + axis };
         }
         Some(lanes)
     }
 
-    /// Lower bounds on where the ray enters each child within `[ray_t.min, t_max]` as the
-    /// `f64` test finds it (`+inf`: not even the widened test is passed).
+    /// Lower bounds on where the ray enters each child within `[ray_t.min, hi]` as the
+    /// `f64` test finds it, and the children entered, as bits.
     #[inline(always)]
-    fn entries(&self, node: &Node, t_max: f64) -> [f32; WIDTH] {
-        let hi = up(DVec3::splat(t_max.min(f64::from(f32::MAX)))).x;
+    fn entries(&self, node: &Node, hi: f32) -> ([f32; WIDTH], u32) {
         let (mut t0, mut t1) = ([self.lo; WIDTH], [hi; WIDTH]);
         for axis in 0..3 {
             let near = &node.bounds[self.near[axis]];
             let far = &node.bounds[self.far[axis]];
+            let (inv, near_shift, far_shift) =
+                (self.inv[axis], self.near_shift[axis], self.far_shift[axis]);
             // Lane by lane, in loops the compiler turns into one instruction per step for
-            // all eight lanes (two with SSE alone).
+            // all eight lanes (two with SSE alone). No distance is NaN (see `Lanes`), so
+            // the comparisons are the CPU's own `max` and `min`. (Tried: `f32::mul_add`,
+            // which only the AVX2 copy could take, and only through a flag passed down
+            // from the dispatch.)
             for k in 0..WIDTH {
-                let a = (near[k] - self.origin_near[axis]) * self.inv[axis];
-                let b = (far[k] - self.origin_far[axis]) * self.inv[axis];
-                // A NaN distance is ignored, as in the f64 test: `x.max(y)` is `y` when `x`
-                // is NaN (and `t0`, `t1` never are). (Tried: `if a > t0 { a } else { t0 }`,
-                // SSE's own `max`, one instruction where this takes three: within noise.)
-                t0[k] = a.max(t0[k]);
-                t1[k] = b.min(t1[k]);
+                let a = near[k] * inv + near_shift;
+                let b = far[k] * inv + far_shift;
+                t0[k] = if a > t0[k] { a } else { t0[k] };
+                t1[k] = if b < t1[k] { b } else { t1[k] };
             }
         }
-        let mut entries = [0.0; WIDTH];
-        for k in 0..WIDTH {
-            let entry = t0[k] - t0[k].abs() * RHO - SIGMA;
-            let exit = t1[k] + t1[k].abs() * RHO + SIGMA;
-            entries[k] = if entry <= exit { entry } else { f32::INFINITY };
-        }
-        entries
+        (t0, entered_bits(&t0, &t1))
     }
 }
 
@@ -224,17 +233,17 @@ fn down(x: DVec3) -> Vec3 {
 /// value can still end among them; read as zero, such a value is still on the right side.
 const STEP: f64 = f32::MIN_POSITIVE as f64;
 
-/// Bit `k` set where the ray enters child `k` (`t[k]` finite): a comparison and a mask
-/// per four lanes, through the `wide` crate (SSE's `cmpltps` and `movmskps`; in the AVX2 path, two
-/// comparisons and one mask). (Tried: a loop of `m | (t[k] < inf) << k`, which LLVM
-/// compiles to scalar instructions, one per lane and more.)
+/// Bit `k` set where the ray enters child `k` (`t0[k] <= t1[k]`): a comparison and a mask
+/// per four lanes, through the `wide` crate (SSE's `cmpleps` and `movmskps`; in the AVX2
+/// path, two comparisons and one mask). (Tried: a loop of `m | (t0[k] <= t1[k]) << k`,
+/// which LLVM compiles to scalar instructions, one per lane and more.)
 #[inline(always)]
-fn entered_bits(t: &[f32; WIDTH]) -> u32 {
-    let infinite = wide::f32x4::splat(f32::INFINITY);
+fn entered_bits(t0: &[f32; WIDTH], t1: &[f32; WIDTH]) -> u32 {
     let mut bits = 0;
-    for (i, lanes) in t.chunks_exact(4).enumerate() {
-        let lanes = wide::f32x4::from([lanes[0], lanes[1], lanes[2], lanes[3]]);
-        bits |= (wide::CmpLt::cmp_lt(lanes, infinite).move_mask() as u32) << (4 * i);
+    for i in (0..WIDTH).step_by(4) {
+        let a = wide::f32x4::from([t0[i], t0[i + 1], t0[i + 2], t0[i + 3]]);
+        let b = wide::f32x4::from([t1[i], t1[i + 1], t1[i + 2], t1[i + 3]]);
+        bits |= (wide::CmpLe::cmp_le(a, b).move_mask() as u32) << i;
     }
     bits
 }
@@ -273,93 +282,190 @@ impl Tree {
         // as it is lowered.
         let box_ray = BoxRay::new(ray);
         let scaled_t = box_ray.scaled_range(ray_t);
-        // The stack is cleared on every walk, which costs as much as a node visit or two
-        // at the deepest size: a smaller one where the tree allows, for the rays the lanes
-        // take (all but rays past their limits, which take the deepest).
-        let pending = (WIDTH - 1) * self.depth;
         match Lanes::new(self, ray, &box_ray, scaled_t) {
-            Some(lanes) if pending <= SHALLOW => {
-                self.descend::<SHALLOW, NEAREST>(t_max, tally, visit, &lanes, &box_ray);
-            }
-            Some(lanes) => self.descend::<DEEP, NEAREST>(t_max, tally, visit, &lanes, &box_ray),
+            Some(lanes) => self.descend::<NEAREST>(t_max, tally, &mut visit, &lanes, &box_ray),
             None => {
                 let reference = Reference {
                     origin: self.origin.to_array(),
                     ray: box_ray,
                     min: scaled_t.min,
                 };
-                self.descend::<DEEP, NEAREST>(t_max, tally, visit, &reference, &box_ray);
+                self.descend::<NEAREST>(t_max, tally, &mut visit, &reference, &box_ray);
             }
         }
     }
 
     /// The walk itself, with `test` giving (lower bounds on) where the ray enters each
-    /// child of a node before `t_max` (`+inf` where it misses), in the units of
-    /// `box_ray`'s scaled direction.
+    /// child of a node before `t_max` (and which it enters), in the units of `box_ray`'s
+    /// scaled direction: on a stack in the walk's frame, moved to a deep one where that
+    /// fills (the closest-hit rule does not depend on the order of the walk, so the deep
+    /// one simply goes on from where the small one stopped).
     #[inline(always)]
-    fn descend<const STACK: usize, const NEAREST: bool>(
+    fn descend<const NEAREST: bool>(
         &self,
         t_max: &mut f64,
         tally: &mut impl Tally,
-        mut visit: impl FnMut(usize, usize, &mut f64) -> bool,
+        visit: &mut impl FnMut(usize, usize, &mut f64) -> bool,
         test: &impl Entries,
         box_ray: &BoxRay,
     ) {
-        // Pending nodes as (index, count, entry distance): at most WIDTH - 1 per level
-        // above the current node, `self.depth` levels at most.
-        let mut stack = [(0u32, 0u32, 0.0f32); STACK];
-        let mut pending = 0;
-        let (mut index, mut count) = (0u32, 0u32);
-        // `t_max` in the boxes' units.
-        let mut limit = box_ray.scaled_max(*t_max);
+        let mut walk = Walk {
+            stack: [Pending::default(); SMALL],
+            pending: 0,
+            at: (0, 0),
+            limit: Limit::new(box_ray, *t_max),
+        };
+        if walk.run::<NEAREST>(self, t_max, tally, visit, test, box_ray) {
+            self.deep::<NEAREST>(&walk, t_max, tally, visit, test, box_ray);
+        }
+    }
+
+    /// [`Tree::descend`] once the small stack is full: the same walk, on from `small`.
+    #[cold]
+    #[inline(never)]
+    fn deep<const NEAREST: bool>(
+        &self,
+        small: &Walk<SMALL>,
+        t_max: &mut f64,
+        tally: &mut impl Tally,
+        visit: &mut impl FnMut(usize, usize, &mut f64) -> bool,
+        test: &impl Entries,
+        box_ray: &BoxRay,
+    ) {
+        let mut walk = Walk {
+            stack: [Pending::default(); DEEP],
+            pending: small.pending,
+            at: small.at,
+            limit: small.limit,
+        };
+        walk.stack[..small.pending].copy_from_slice(&small.stack[..small.pending]);
+        walk.run::<NEAREST>(self, t_max, tally, visit, test, box_ray);
+    }
+}
+
+/// A child the walk has yet to visit: its index and count (as a node's lanes hold them),
+/// and where the ray enters it. Plain words, so that the stack is zeroed in a few wide
+/// stores. (As a tuple of two `u32` and an `f32`, zeroing 24 of them took 56 instructions.)
+#[derive(Clone, Copy, Default)]
+struct Pending {
+    index: u32,
+    count: u32,
+    entry: u32,
+}
+
+impl Pending {
+    #[inline(always)]
+    fn new(index: u32, count: u32, entry: f32) -> Self {
+        Self {
+            index,
+            count,
+            entry: entry.to_bits(),
+        }
+    }
+
+    #[inline(always)]
+    fn entry(&self) -> f32 {
+        f32::from_bits(self.entry)
+    }
+}
+
+/// A walk under way: pending children, nearest on top, the child being visited
+/// (`count == 0`: a node), and `t_max` as the box test takes it.
+struct Walk<const N: usize> {
+    stack: [Pending; N],
+    pending: usize,
+    at: (u32, u32),
+    limit: Limit,
+}
+
+impl<const N: usize> Walk<N> {
+    /// Walks on until done (`false`) or until a node's children might not fit on the stack
+    /// (`true`: that node is `at`, not yet tested).
+    #[inline(always)]
+    fn run<const NEAREST: bool>(
+        &mut self,
+        tree: &Tree,
+        t_max: &mut f64,
+        tally: &mut impl Tally,
+        visit: &mut impl FnMut(usize, usize, &mut f64) -> bool,
+        test: &impl Entries,
+        box_ray: &BoxRay,
+    ) -> bool {
         loop {
+            let (index, count) = self.at;
             if count == 0 {
-                let node = &self.nodes[index as usize];
-                tally.node();
-                let t = test.entries(node, limit);
-                // The children entered, as bits, visited lowest first.
-                let mut bits = entered_bits(&t);
-                // Nearest first where asked (an insertion sort of at most eight). (Tried: a
-                // branch-free sorting network on keys that order as the distances do;
-                // slower on primary rays, no faster on bounces. For any hit, farthest first,
-                // or the boxes the ray starts in last: fewer face tests on blocked shadow
-                // rays, no faster.)
-                let mut entered = [(0.0f32, 0u32, 0u32); WIDTH];
-                let mut n = 0;
-                while bits != 0 {
-                    let k = bits.trailing_zeros() as usize;
-                    bits &= bits - 1;
-                    let t = t[k];
-                    let mut at = n;
-                    while NEAREST && at > 0 && entered[at - 1].0 > t {
-                        entered[at] = entered[at - 1];
-                        at -= 1;
-                    }
-                    entered[at] = (t, node.index[k], node.count[k]);
-                    n += 1;
+                if N < DEEP && self.pending + WIDTH - 1 > N {
+                    return true;
                 }
-                if n > 0 {
-                    for &(t_entry, i, c) in entered[1..n].iter().rev() {
-                        stack[pending] = (i, c, t_entry);
-                        pending += 1;
+                let node = &tree.nodes[index as usize];
+                tally.node();
+                let (t, mut bits) = test.entries(node, self.limit);
+                if bits != 0 {
+                    // One child entered, or two: no sort. (Tried: for any hit, farthest
+                    // first, or the boxes the ray starts in last: fewer face tests on
+                    // blocked shadow rays, no faster.)
+                    let first = bits.trailing_zeros() as usize;
+                    bits &= bits - 1;
+                    if bits == 0 {
+                        self.at = (node.index[first], node.count[first]);
+                        continue;
                     }
-                    (index, count) = (entered[0].1, entered[0].2);
+                    let second = bits.trailing_zeros() as usize;
+                    bits &= bits - 1;
+                    if bits == 0 {
+                        let (near, far) = if NEAREST && t[second] < t[first] {
+                            (second, first)
+                        } else {
+                            (first, second)
+                        };
+                        self.stack[self.pending] =
+                            Pending::new(node.index[far], node.count[far], t[far]);
+                        self.pending += 1;
+                        self.at = (node.index[near], node.count[near]);
+                        continue;
+                    }
+                    // Three or more: onto the stack, nearest first where asked (an
+                    // insertion sort, of equal entries the lower lane on top), and the top
+                    // taken. (Tried: a branch-free sorting network on keys that order as
+                    // the distances do; slower on primary rays, no faster on bounces.)
+                    let base = self.pending;
+                    let mut bits = bits | (1 << first) | (1 << second);
+                    while bits != 0 {
+                        // Highest lane first, so that without sorting the lowest is on top.
+                        let k = 31 - bits.leading_zeros() as usize;
+                        bits &= !(1 << k);
+                        let entry = Pending::new(node.index[k], node.count[k], t[k]);
+                        let mut at = self.pending;
+                        while NEAREST && at > base && self.stack[at - 1].entry() < entry.entry() {
+                            self.stack[at] = self.stack[at - 1];
+                            at -= 1;
+                        }
+                        self.stack[at] = entry;
+                        self.pending += 1;
+                    }
+                    self.pending -= 1;
+                    let top = self.stack[self.pending];
+                    self.at = (top.index, top.count);
                     continue;
                 }
-            } else if visit(index as usize, count as usize, t_max) {
-                return;
             } else {
-                limit = box_ray.scaled_max(*t_max);
-            }
-            // The nearest pending node the ray still reaches before t_max.
-            loop {
-                if pending == 0 {
-                    return;
+                let before = *t_max;
+                if visit(index as usize, count as usize, t_max) {
+                    return false;
                 }
-                pending -= 1;
-                let (i, c, t_entry) = stack[pending];
-                if f64::from(t_entry) <= limit {
-                    (index, count) = (i, c);
+                if *t_max != before {
+                    self.limit = Limit::new(box_ray, *t_max);
+                }
+            }
+            // The nearest pending child the ray still reaches before t_max.
+            loop {
+                if self.pending == 0 {
+                    return false;
+                }
+                self.pending -= 1;
+                let next = self.stack[self.pending];
+                if next.entry() <= self.limit.up {
+                    self.at = (next.index, next.count);
                     break;
                 }
             }
@@ -369,7 +475,7 @@ impl Tree {
 
 #[cfg(test)]
 mod tests {
-    use super::{BoxRay, Lanes, Tree, entries};
+    use super::{BoxRay, Lanes, Limit, Tree, entries};
     use crate::tree::Shape;
     use crate::{Aabb, Interval, Ray};
     use glam::DVec3;
@@ -448,19 +554,19 @@ mod tests {
             let box_ray = BoxRay::new(&ray);
             let ray_t = Interval::new(t_min, t_max);
             let Some(lanes) = Lanes::new(&tree, &ray, &box_ray, ray_t) else {
-                // Only past the limits: every |1/d| in [2^-62, 2^62] or infinite.
-                let within = |inv: f64| {
-                    inv.is_infinite() || (2f64.powi(-62)..=2f64.powi(62)).contains(&inv.abs())
-                };
+                // Only past the limits: every |1/d| in [2^-62, 2^62] (so no zero
+                // component).
+                let within = |inv: f64| (2f64.powi(-62)..=2f64.powi(62)).contains(&inv.abs());
                 prop_assert!(!box_ray.inv_direction.to_array().into_iter().all(within));
                 return Ok(());
             };
             let world = tree.origin.to_array();
             for node in &tree.nodes {
                 let exact = entries(node, &world, &box_ray, ray_t);
-                let fast = lanes.entries(node, t_max);
+                let (fast, entered) = lanes.entries(node, Limit::new(&box_ray, t_max).up);
                 for k in 0..exact.len() {
                     if exact[k] < f64::INFINITY {
+                        prop_assert!(entered & (1 << k) != 0, "lane {k}: entered by the f64 test only");
                         prop_assert!(
                             f64::from(fast[k]) <= exact[k],
                             "lane {k}: f32 entry {} after the f64 test's {}", fast[k], exact[k]
@@ -468,6 +574,45 @@ mod tests {
                     }
                 }
             }
+        }
+    }
+
+    /// A walk that enters every child of every node fills the small stack and goes on on
+    /// the deep one: it still offers every leaf once, with both child orders.
+    #[test]
+    fn a_walk_past_the_small_stack_offers_every_leaf_once() {
+        // Boxes that all hold the ray's path, each a little apart from the others so that
+        // the build still splits them: every node's children are all entered.
+        let n = 8usize.pow(5);
+        let boxes: Vec<Aabb> = (0..n)
+            .map(|i| {
+                let c = DVec3::new((i % 97) as f64, (i % 89) as f64, (i % 83) as f64) * 1e-3;
+                Aabb::new(c - DVec3::splat(1.0), c + DVec3::splat(1.0))
+            })
+            .collect();
+        let (tree, _) = Tree::build(boxes.len(), |i| boxes[i], Shape::OBJECTS, false);
+        assert!(
+            (super::WIDTH - 1) * tree.depth() > super::SMALL,
+            "depth {}",
+            tree.depth()
+        );
+        let ray = Ray::new(DVec3::splat(-5.0), DVec3::new(1.0, 0.9, 1.1));
+        for nearest in [true, false] {
+            let mut seen = vec![0u32; n];
+            let mut offer = |first: usize, count: usize, _: &mut f64| {
+                seen[first..first + count].iter_mut().for_each(|s| *s += 1);
+                false
+            };
+            let mut t_max = f64::INFINITY;
+            if nearest {
+                tree.walk::<true>(&ray, Interval::FORWARD, &mut t_max, &mut (), &mut offer);
+            } else {
+                tree.walk::<false>(&ray, Interval::FORWARD, &mut t_max, &mut (), &mut offer);
+            }
+            assert!(
+                seen.iter().all(|&s| s == 1),
+                "nearest {nearest}: a leaf offered not once"
+            );
         }
     }
 
@@ -487,12 +632,19 @@ mod tests {
             let lanes = Lanes::new(&tree, &ray, &box_ray, Interval::FORWARD).unwrap();
             let normal_or_zero = |x: f32| x == 0.0 || x.is_normal() || x.is_infinite();
             assert!(normal_or_zero(lanes.lo), "{}", lanes.lo);
-            for &v in lanes.origin_near.iter().chain(&lanes.origin_far) {
+            for &v in lanes.near_shift.iter().chain(&lanes.far_shift) {
                 assert!(normal_or_zero(v), "{v}");
             }
             for node in &tree.nodes {
-                let entries = lanes.entries(node, f64::INFINITY);
-                assert!(entries.into_iter().all(normal_or_zero), "{entries:?}");
+                let (entries, entered) = lanes.entries(node, f32::INFINITY);
+                let entries = (0..entries.len())
+                    .filter(|k| entered & (1 << k) != 0)
+                    .map(|k| entries[k]);
+                assert!(
+                    entries.clone().all(normal_or_zero),
+                    "{:?}",
+                    entries.collect::<Vec<_>>()
+                );
             }
         }
     }
