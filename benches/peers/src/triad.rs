@@ -661,6 +661,27 @@ fn count_shadow(lib: &dyn Library, rays: &[Ray]) {
     });
 }
 
+/// FNV-1a over every answer, bit for bit: two builds that answer alike print the same.
+fn digest(a: &Answers) -> u64 {
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    let mut eat = |x: u64| {
+        for b in x.to_le_bytes() {
+            h = (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3);
+        }
+    };
+    for hit in a.primary.iter().chain(&a.bounce) {
+        match hit {
+            Some((face, t)) => {
+                eat(*face as u64);
+                eat(t.to_bits());
+            }
+            None => eat(u64::MAX),
+        }
+    }
+    a.shadow.iter().for_each(|&o| eat(u64::from(o)));
+    h
+}
+
 /// How many answers differ.
 fn differ<T: PartialEq>(a: &[T], b: &[T]) -> usize {
     a.iter().zip(b).filter(|(x, y)| x != y).count()
@@ -795,6 +816,10 @@ pub fn run(scenes: &[TriadScene], args: &Args) {
         }
         // Answers first (untimed), against the mesh's; then FTZ/DAZ's effect on them.
         let reference = answer(libs[0].as_ref(), &rays);
+        notes.push(format!(
+            "{name}: digest of TriangleMesh's answers (face, bits of t, occlusion), to compare builds: {:016x}",
+            digest(&reference)
+        ));
         let hits = |a: &[Hit]| a.iter().flatten().count();
         sets.push(format!(
             "| {name} | {} | {} | {} ({} hit) | {} ({} hit) | {} ({} occluded) |",
