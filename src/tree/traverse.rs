@@ -66,8 +66,9 @@ struct Lanes {
     lo: f32,
 }
 
-/// The pad's relative part (see [`Lanes`]).
+/// The pad's relative part, and its absolute one (see [`Lanes`]).
 const PAD: f64 = 1.0 / (1u32 << 21) as f64;
+const UNDERFLOW: f64 = 1.0 / (1u128 << 120) as f64;
 
 /// Stack entries kept in the walk's frame: the pending children of three levels of nodes
 /// whose every child the ray enters, where a walk mostly enters one or two; a walk that
@@ -160,7 +161,7 @@ impl Lanes {
         let reach = &tree.reach;
         let pad = (DVec3::from(reach.extent) + relative.abs()) * magnitude * PAD
             + 2.0 * DVec3::from(reach.rounding) * magnitude
-            + DVec3::splat(2f64.powi(-120));
+            + DVec3::splat(UNDERFLOW);
         // Rounded outward to `f32` as [`up`] and [`down`] round, their step folded into the
         // pad.
         let shift = -relative * inv;
