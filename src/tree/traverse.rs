@@ -219,14 +219,20 @@ impl Lanes {
 /// there, nothing.
 #[inline(always)]
 fn prefetch(tree: &Tree, index: u32) {
-    #[cfg(all(any(target_arch = "x86", target_arch = "x86_64"), target_feature = "sse"))]
+    #[cfg(all(
+        any(target_arch = "x86", target_arch = "x86_64"),
+        target_feature = "sse"
+    ))]
     if let Some(node) = tree.nodes.get(index as usize) {
         for side in [0, 2, 4] {
             safe_arch::prefetch_t0(&node.bounds[side]);
         }
         safe_arch::prefetch_t0(&node.index);
     }
-    #[cfg(not(all(any(target_arch = "x86", target_arch = "x86_64"), target_feature = "sse")))]
+    #[cfg(not(all(
+        any(target_arch = "x86", target_arch = "x86_64"),
+        target_feature = "sse"
+    )))]
     let _ = (tree, index);
 }
 
