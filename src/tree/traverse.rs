@@ -84,7 +84,7 @@ const INV_LIMIT: f64 = (1u64 << 62) as f64;
 
 /// A box test of a node's children: (lower bounds on) where the ray enters each within
 /// `[ray_t.min, limit]`, and as bits the children it enters (`limit` is `t_max` in the
-/// test's units, and rounded up to `f32`, as [`Entries::limit`] makes it).
+/// test's units, and rounded up to `f32`: see [`Limit`]).
 trait Entries {
     fn entries(&self, node: &Node, limit: Limit) -> ([f32; WIDTH], u32);
 }
@@ -200,9 +200,9 @@ impl Lanes {
                 (self.inv[axis], self.near_shift[axis], self.far_shift[axis]);
             // Lane by lane, in loops the compiler turns into one instruction per step for
             // all eight lanes (two with SSE alone). No distance is NaN (see `Lanes`), so
-            // the comparisons are the CPU's own `max` and `min`. (Tried: `f32::mul_add`,
-            // which only the AVX2 copy could take, and only through a flag passed down
-            // from the dispatch.)
+            // the comparisons are the CPU's own `max` and `min`. (Not done: a fused
+            // multiply-add, which only the AVX2 copy could compile to one instruction, and
+            // only through a flag passed down from the dispatch to every query.)
             for k in 0..WIDTH {
                 let a = near[k] * inv + near_shift;
                 let b = far[k] * inv + far_shift;
