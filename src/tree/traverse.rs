@@ -161,11 +161,11 @@ impl Lanes {
         let reach = &tree.reach;
         let pad = (DVec3::from(reach.extent) + relative.abs()) * magnitude * PAD
             + 2.0 * DVec3::from(reach.rounding) * magnitude
-            + DVec3::splat(UNDERFLOW);
-        // Rounded outward to `f32` as [`up`] and [`down`] round, their step folded into the
-        // pad.
+            + DVec3::splat(UNDERFLOW + STEP);
+        // Rounded outward to `f32` as [`up`] and [`down`] round, their step (`STEP` above)
+        // folded into the pad.
         let shift = -relative * inv;
-        let pad = pad + shift.abs() * f64::from(f32::EPSILON) + DVec3::splat(STEP);
+        let pad = pad + shift.abs() * f64::from(f32::EPSILON);
         let (near_shift, far_shift) = ((shift - pad).as_vec3(), (shift + pad).as_vec3());
         let mut lanes = Self {
             near: [0; 3],
@@ -334,7 +334,7 @@ impl Tree {
         box_ray: &BoxRay,
     ) {
         let mut walk = Walk {
-            stack: [Pending::default(); SMALL],
+            stack: [(0, 0, 0.0); SMALL],
             pending: 0,
             at: (0, 0),
             limit: Limit::new(box_ray, *t_max),
@@ -357,7 +357,7 @@ impl Tree {
         box_ray: &BoxRay,
     ) {
         let mut walk = Walk {
-            stack: [Pending::default(); DEEP],
+            stack: [(0, 0, 0.0); DEEP],
             pending: small.pending,
             at: small.at,
             limit: small.limit,
@@ -367,36 +367,10 @@ impl Tree {
     }
 }
 
-/// A child the walk has yet to visit: its index and count (as a node's lanes hold them),
-/// and where the ray enters it. Plain words, so that the stack is zeroed in a few wide
-/// stores. (As a tuple of two `u32` and an `f32`, zeroing 24 of them took 56 instructions.)
-#[derive(Clone, Copy, Default)]
-struct Pending {
-    index: u32,
-    count: u32,
-    entry: u32,
-}
-
-impl Pending {
-    #[inline(always)]
-    fn new(index: u32, count: u32, entry: f32) -> Self {
-        Self {
-            index,
-            count,
-            entry: entry.to_bits(),
-        }
-    }
-
-    #[inline(always)]
-    fn entry(&self) -> f32 {
-        f32::from_bits(self.entry)
-    }
-}
-
-/// A walk under way: pending children, nearest on top, the child being visited
-/// (`count == 0`: a node), and `t_max` as the box test takes it.
+/// A walk under way: pending children as (index, count, entry distance), nearest on top,
+/// the child being visited (`count == 0`: a node), and `t_max` as the box test takes it.
 struct Walk<const N: usize> {
-    stack: [Pending; N],
+    stack: [(u32, u32, f32); N],
     pending: usize,
     at: (u32, u32),
     limit: Limit,
@@ -442,8 +416,7 @@ impl<const N: usize> Walk<N> {
                         } else {
                             (first, second)
                         };
-                        self.stack[self.pending] =
-                            Pending::new(node.index[far], node.count[far], t[far]);
+                        self.stack[self.pending] = (node.index[far], node.count[far], t[far]);
                         self.pending += 1;
                         self.at = (node.index[near], node.count[near]);
                         continue;
@@ -458,9 +431,9 @@ impl<const N: usize> Walk<N> {
                         // Highest lane first, so that without sorting the lowest is on top.
                         let k = 31 - bits.leading_zeros() as usize;
                         bits &= !(1 << k);
-                        let entry = Pending::new(node.index[k], node.count[k], t[k]);
+                        let entry = (node.index[k], node.count[k], t[k]);
                         let mut at = self.pending;
-                        while NEAREST && at > base && self.stack[at - 1].entry() < entry.entry() {
+                        while NEAREST && at > base && self.stack[at - 1].2 < entry.2 {
                             self.stack[at] = self.stack[at - 1];
                             at -= 1;
                         }
@@ -468,11 +441,11 @@ impl<const N: usize> Walk<N> {
                         self.pending += 1;
                     }
                     self.pending -= 1;
-                    let top = self.stack[self.pending];
-                    self.at = (top.index, top.count);
-                    for pushed in &self.stack[base..self.pending] {
-                        if pushed.count == 0 {
-                            prefetch(tree, pushed.index);
+                    let (i, c, _) = self.stack[self.pending];
+                    self.at = (i, c);
+                    for &(i, c, _) in &self.stack[base..self.pending] {
+                        if c == 0 {
+                            prefetch(tree, i);
                         }
                     }
                     continue;
@@ -492,9 +465,9 @@ impl<const N: usize> Walk<N> {
                     return false;
                 }
                 self.pending -= 1;
-                let next = self.stack[self.pending];
-                if next.entry() <= self.limit.up {
-                    self.at = (next.index, next.count);
+                let (i, c, t_entry) = self.stack[self.pending];
+                if t_entry <= self.limit.up {
+                    self.at = (i, c);
                     break;
                 }
             }

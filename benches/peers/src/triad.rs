@@ -630,34 +630,35 @@ fn chosen(lib: &dyn Library, args: &Args) -> bool {
 
 // The sets traced once each for an instruction counter, one function a set, so that
 // callgrind's `--toggle-collect` counts each apart from the builds and from the others.
-// (The mark keeps the compiler from merging the two closest-hit passes into one function.)
 #[inline(never)]
 fn count_primary(lib: &dyn Library, rays: &[Ray]) {
-    black_box("primary");
-    rays.iter().for_each(|r| {
-        black_box(lib.closest(black_box(r)));
-    });
+    closest_all(lib, rays, "primary");
 }
 
 #[inline(never)]
 fn count_bounce(lib: &dyn Library, rays: &[Ray]) {
-    rays.iter().for_each(|r| {
-        black_box(lib.closest(black_box(r)));
-    });
+    closest_all(lib, rays, "bounce");
 }
 
 #[inline(never)]
 fn count_miss(lib: &dyn Library, rays: &[Ray]) {
-    black_box("miss");
-    rays.iter().for_each(|r| {
-        black_box(lib.closest(black_box(r)));
-    });
+    closest_all(lib, rays, "miss");
 }
 
 #[inline(never)]
 fn count_shadow(lib: &dyn Library, rays: &[Ray]) {
     rays.iter().for_each(|r| {
         black_box(lib.occluded(black_box(r)));
+    });
+}
+
+/// Every ray's closest hit; `mark` keeps the compiler from merging the passes that call
+/// this into one function.
+#[inline(always)]
+fn closest_all(lib: &dyn Library, rays: &[Ray], mark: &str) {
+    black_box(mark);
+    rays.iter().for_each(|r| {
+        black_box(lib.closest(black_box(r)));
     });
 }
 
