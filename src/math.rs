@@ -26,11 +26,31 @@ pub(crate) fn sqrt(x: f64) -> f64 {
     }
 }
 
-/// `v / |v|` and `|v|`, without overflow or underflow in the squares: `v` is first scaled
-/// by the power of two (an exact scaling) that brings its largest component near 1. For a
-/// zero vector, `(NaN, 0)`.
+/// `v / |v|` and `|v|`, without overflow or underflow in the squares: where `|v|^2` is
+/// far from both (in `[2^-960, 2^960]`: the book's normalization, no dearer), as it is;
+/// else `v` is first scaled by the power of two (an exact scaling) that brings its largest
+/// component near 1, which gives the same bits but for the squares the first way lost to
+/// underflow (each below `2^-1074`, against a sum of at least `2^-960`). For a zero vector,
+/// `(NaN, 0)`.
+#[inline]
 #[must_use]
 pub(crate) fn unit_and_length(v: glam::DVec3) -> (glam::DVec3, f64) {
+    let squared = v.dot(v);
+    if (SQUARED_LOW..=SQUARED_HIGH).contains(&squared) {
+        let length = sqrt(squared);
+        return (v / length, length);
+    }
+    unit_and_length_scaled(v)
+}
+
+/// The range of `|v|^2` in which [`unit_and_length`] and [`length`] need no scaling.
+const SQUARED_LOW: f64 = f64::from_bits((1023 - 960) << 52);
+const SQUARED_HIGH: f64 = f64::from_bits((1023 + 960) << 52);
+
+/// [`unit_and_length`] by the scaling.
+#[cold]
+#[inline(never)]
+fn unit_and_length_scaled(v: glam::DVec3) -> (glam::DVec3, f64) {
     let scale = power_of_two_scale(v.abs().max_element());
     let scaled = v * scale;
     let length = scaled.length();
@@ -42,6 +62,10 @@ pub(crate) fn unit_and_length(v: glam::DVec3) -> (glam::DVec3, f64) {
 #[inline]
 #[must_use]
 pub(crate) fn length(v: glam::DVec3) -> f64 {
+    let squared = v.dot(v);
+    if (SQUARED_LOW..=SQUARED_HIGH).contains(&squared) {
+        return sqrt(squared);
+    }
     let exponent = ((v.abs().max_element().to_bits() >> 52) & 0x7ff) as i64 - 1023;
     let exponent = exponent.clamp(-1022, 1022);
     let scale = f64::from_bits(((1023 - exponent) as u64) << 52);

@@ -24,6 +24,10 @@ use crate::{Aabb, GeometryError, HitRecord, Hittable, Interval, MaterialId, PdfH
 pub struct Sphere {
     center: DVec3,
     radius: f64,
+    /// `radius * radius`, made once: every query needs it.
+    radius_squared: f64,
+    /// The part of [`Roots::clear`] that depends on the sphere alone.
+    box_room: f64,
     material: MaterialId,
     /// Made once: every query clamps its roots to it.
     bbox: Aabb,
@@ -56,6 +60,8 @@ impl Sphere {
         Ok(Self {
             center,
             radius,
+            radius_squared: radius * radius,
+            box_room: gamma(64) * gamma(2) * center.abs().max_element() + 4.0 * f64::MIN_POSITIVE,
             material: MaterialId::default(),
             bbox,
         })
@@ -100,8 +106,8 @@ impl Sphere {
     #[must_use]
     pub(crate) fn roots(&self, ray: &Ray) -> Option<(f64, f64)> {
         self.solve(ray)
-            .filter(|&(near, far, ..)| near.is_finite() && far.is_finite())
-            .map(|(near, far, ..)| (near, far))
+            .filter(|r| r.near.is_finite() && r.far.is_finite())
+            .map(|r| (r.near, r.far))
     }
 
     /// The roots, nearer first, the vector from the centre to the ray's point closest to
@@ -114,90 +120,214 @@ impl Sphere {
     /// power of two (exactly: [`Ray::rescaled`], after which `d.d` is at least `2^-104`)
     /// and the roots scaled back, which may then pass f64's range (infinite, never NaN).
     #[inline]
-    fn solve(&self, ray: &Ray) -> Option<(f64, f64, DVec3, DVec3)> {
+    fn solve(&self, ray: &Ray) -> Option<Roots> {
         self.solve_as::<true>(ray)
     }
 
     /// [`Sphere::solve`], which rescales only where `RESCALE` (no recursion, so the
     /// common path inlines).
     #[inline(always)]
-    fn solve_as<const RESCALE: bool>(&self, ray: &Ray) -> Option<(f64, f64, DVec3, DVec3)> {
+    fn solve_as<const RESCALE: bool>(&self, ray: &Ray) -> Option<Roots> {
         let f = ray.origin - self.center;
         let d = ray.direction;
         let a = d.dot(d);
-        if RESCALE
-            && !((1.0 / (1u128 << 64) as f64 / (1u128 << 64) as f64..=(1u128 << 66) as f64)
-                .contains(&a))
-            && let Some(rescaled) = ray.rescaled()
-        {
-            return self.solve_rescaled(rescaled);
+        // Outside the range, where a ray that cannot be traced is too, solved along the
+        // rescaled direction. (An infinite or NaN origin with a direction in range makes a
+        // NaN or `-inf` discriminant below: no roots.)
+        if RESCALE && !in_range(a) {
+            return self.solve_rescaled(ray);
         }
         let b = f.dot(d); // half of the usual b
         let closest = f - (b / a) * d;
-        let r2 = self.radius * self.radius;
+        let r2 = self.radius_squared;
         let discriminant = r2 - closest.dot(closest);
         if discriminant.is_nan() || discriminant < 0.0 {
             return None; // a miss, or a NaN from an invalid ray
         }
-        let c = f.dot(f) - r2;
+        let ff = f.dot(f);
+        let c = ff - r2;
         // One square root serves both: `sqrt(a disc) / a = sqrt(disc / a)`, the half chord
         // in units of `t`.
         let root = sqrt(a * discriminant);
-        let q = -(b + b.signum() * root);
+        // (`copysign`, not `signum`: the same for every `b` that gets here, a number.)
+        let q = -(b + root.copysign(b));
         let (t0, t1) = (c / q, q / a);
-        let (near, far) = if t0 <= t1 { (t0, t1) } else { (t1, t0) };
-        let half_chord = (root / a) * d;
-        (!(near.is_nan() || far.is_nan()) && half_chord.is_finite())
-            .then_some((near, far, closest, half_chord))
+        // (Written for `minsd` and `maxsd`: a NaN root ends as `near` or `far`, checked.)
+        let less = t0 < t1;
+        let (near, far) = (if less { t0 } else { t1 }, if less { t1 } else { t0 });
+        let scale = root / a;
+        // `|d_i| <= sqrt(a)`, so a finite `root / a` makes a half chord of at most about
+        // `sqrt(discriminant) <= r` per coordinate: finite.
+        if near.is_nan() || far.is_nan() || !(scale < f64::INFINITY) {
+            return None;
+        }
+        // See `Roots::clear`: `c / q` is as accurate as the point needs where
+        // `q^2 >= a (f.f + r^2) / 64`.
+        let clear = if RESCALE && q * q >= a * (ff + r2) * (1.0 / 64.0) {
+            self.radius - (CLEAR * (f.abs().max_element() + self.radius) + self.box_room)
+        } else {
+            f64::NEG_INFINITY
+        };
+        Some(Roots {
+            near,
+            far,
+            closest,
+            half_chord: scale * d,
+            clear,
+        })
     }
 }
 
+/// What [`Sphere::solve`] found: the roots, nearer first, the vector from the centre to the
+/// ray's point closest to it, half the chord as a vector along the ray, and `clear`.
+///
+/// `clear` is a bound on the vector `w` from the centre to a root's point as computed
+/// (`closest -/+ half_chord`): where `|w_i| <= clear` on every axis, the root's `t` is
+/// inside the box's span by the box's own quick test (`Aabb::clamp_hit` keeps it as it
+/// is), so the root needs no clamp. Derivation (`u_r` the unit roundoff, `f = o - center`
+/// and `q` as computed, `M = |f|_inf + r`): the point `o + t d` of a computed root lies
+/// within `E` of `center + w`. For `t = q / a` (`q = -(b + sign(b) root)`), `t d` and `w`
+/// are the same sum of the same computed terms, rounded apart: `E <= gamma(24) (|f| + r)`.
+/// For `t = c / q` add its distance from that consistent root, `|a c - b^2 + root^2| |d| /
+/// (a |q|)`, whose numerator is the discriminant's rounding (`gamma(70) a (f.f + r^2)`,
+/// see [`Sphere::clearly_missed`]): with `q^2 >= a (f.f + r^2) / 64` (checked; it fails
+/// only where `b` and the chord are both small, a ray from the surface along it), at most
+/// `gamma(700) (|f| + r)`. So `E <= gamma(1262) M`. The box's quick test asks each
+/// coordinate of `t d` to lie inside the box, from the origin, by `gamma(6)` of the
+/// magnitudes (`|t d_i| + |bound - o_i|`, at most `2.1 M + 2 E + gamma(2) |center|_inf`,
+/// the box being the sphere's, grown by `gamma(1) (|center| + r)`), itself rounded: it
+/// holds where `r - |w_i| >= E + gamma(40) (M + gamma(2) |center|_inf) + 4 MIN_POSITIVE`.
+/// `clear` is `r - gamma(2048) M - box_room`, with `box_room = gamma(64) gamma(2)
+/// |center|_inf + 4 MIN_POSITIVE`: no hit point more than about `2.3e-13 M` from the six
+/// points where the sphere touches its box is clamped. `-inf` where it is not known (the
+/// bound on `q` fails, or the direction was rescaled).
+#[derive(Clone, Copy)]
+struct Roots {
+    near: f64,
+    far: f64,
+    closest: DVec3,
+    half_chord: DVec3,
+    clear: f64,
+}
+
+/// The factor of `|f|_inf + r` in [`Roots::clear`].
+const CLEAR: f64 = gamma(2048);
+
 impl Sphere {
     /// [`Hittable::find`]'s crossing, which `hit` records without a [`Made`] (it never
-    /// makes one).
+    /// makes one): most misses decided by [`Sphere::clearly_missed`], the rest by
+    /// [`Sphere::careful_crossing`].
+    #[inline(always)]
     fn crossing(&self, ray: &Ray, ray_t: Interval) -> Option<Found> {
-        if !ray.is_valid() {
+        if self.clearly_missed(ray) {
             return None;
         }
-        let (near, far, closest, half_chord) = self.solve(ray)?;
+        self.careful_crossing::<true>(ray, ray_t)
+    }
+
+    /// Whether the ray misses the sphere by a margin that the careful discriminant's
+    /// rounding cannot close, decided by the book's arithmetic: `b^2 - a c` with
+    /// `a = d.d`, `b = f.d`, `c = f.f - r^2` (`f = o - center`, as computed; `r^2` the
+    /// stored square), whose exact value is `a` times the exact discriminant
+    /// `r^2 - |f - (b / a) d|^2` that [`Sphere::solve`] computes.
+    ///
+    /// Derivation (`u_r` the unit roundoff, `S = a (f.f + r^2)`, and `|f| |d|` bounding
+    /// `sum |f_i d_i|`): the computed `b^2 - a c` is within `2 gamma(10) S` of the exact
+    /// one (each of `a`, `b`, `f.f` carries `gamma(3)` of its magnitudes, `b^2 <= a f.f`);
+    /// the careful one's closest point errs by `gamma(23) |f|` (the quotient `b / a` by
+    /// `gamma(9) |f| / |d|`, its product and difference by a few `u_r` more, `|closest| <=
+    /// |f|`), so its discriminant by `gamma(51) (f.f + r^2)`, or `gamma(51) S` once times
+    /// `a`. A book's discriminant below `-gamma(128) S` is so below `-gamma(51) S` exactly,
+    /// and the careful one is negative: the same miss. An absolute `gamma(128) 2^-900`
+    /// covers what underflow adds (at most a few `2^-1074`, times `a <= 2^66`). Only for
+    /// `a` in the range [`Sphere::solve`] takes without rescaling; a NaN or infinity
+    /// anywhere (an invalid ray) decides nothing here.
+    #[inline(always)]
+    fn clearly_missed(&self, ray: &Ray) -> bool {
+        // 2^-900.
+        const TINY: f64 = f64::from_bits((1023 - 900) << 52);
+        let f = ray.origin - self.center;
+        let d = ray.direction;
+        let (a, b, ff) = (d.dot(d), f.dot(d), f.dot(f));
+        let r2 = self.radius_squared;
+        let margin = gamma(128) * (a * (ff + r2) + TINY);
+        in_range(a) && b * b - a * (ff - r2) < -margin
+    }
+
+    /// The careful crossing: [`Sphere::solve`]'s roots, clamped into the box's span where
+    /// their points are not clear of its faces ([`Roots::clear`]; always, without `QUICK`:
+    /// the reference the tests hold the quick decisions to). Out of line, so that the
+    /// misses decided before it do not pay its registers' saving.
+    #[inline(never)]
+    fn careful_crossing<const QUICK: bool>(&self, ray: &Ray, ray_t: Interval) -> Option<Found> {
+        let Roots {
+            near,
+            far,
+            closest,
+            half_chord,
+            clear,
+        } = self.solve(ray)?;
+        let clear = if QUICK { clear } else { f64::NEG_INFINITY };
         // Each root kept in the box's span along the whole ray (so that a Bvh finds what a
         // loop finds), then the first in range; a root past f64's range (along a direction
         // of extreme length) is no hit.
         // (The far root is clamped only where the near one is out of range: both miss the
         // box or neither does, since a clamp that keeps its root has the box's span hold it.)
-        let (t, along) = match self.clamp(ray, near)? {
-            Some(near) if ray_t.contains(near) => (near, -half_chord),
-            _ => match self.clamp(ray, far)? {
-                Some(far) if ray_t.contains(far) => (far, half_chord),
+        // The vector from the centre comes from the closest point and the half chord, not
+        // from `o + t d`, which cancels to nothing for a ray from far away.
+        let (t, outward) = match self.clamp(ray, near, closest - half_chord, clear)? {
+            Some(near) if ray_t.contains(near) => (near, closest - half_chord),
+            _ => match self.clamp(ray, far, closest + half_chord, clear)? {
+                Some(far) if ray_t.contains(far) => (far, closest + half_chord),
                 _ => return None,
             },
         };
-        // The vector comes from the closest point and the half chord, not from `o + t d`,
-        // which cancels to nothing for a ray from far away. Finite and not zero, it has a
-        // direction.
-        let outward = closest + along;
-        (outward.is_finite() && outward != DVec3::ZERO).then(|| Found::new(t, outward, 0))
+        // Finite (`|closest|^2 <= r^2`, and the half chord is finite) and not zero, it has
+        // a direction.
+        (outward != DVec3::ZERO).then(|| Found::new(t, outward, 0))
     }
 
     /// A root kept in the box's span along the whole ray; `Some(None)` for a root past
-    /// f64's range, `None` where the ray misses the box. (Inlined always: as a closure it
-    /// was a call of its own, a fifth of the search's instructions in the port.)
+    /// f64's range, `None` where the ray misses the box. Kept as it is, without the box's
+    /// test, where its point `center + outward` is clear of the box's faces
+    /// ([`Roots::clear`]). (Inlined always: as a closure it was a call of its own, a fifth
+    /// of the search's instructions in the port.)
     #[inline(always)]
-    fn clamp(&self, ray: &Ray, t: f64) -> Option<Option<f64>> {
+    fn clamp(&self, ray: &Ray, t: f64, outward: DVec3, clear: f64) -> Option<Option<f64>> {
         if t.abs() < f64::INFINITY {
+            if outward.abs().max_element() <= clear {
+                return Some(Some(t));
+            }
             self.bbox.clamp_hit(ray, t).map(Some)
         } else {
             Some(None)
         }
     }
 
-    /// [`Sphere::solve`] along a ray whose direction was [rescaled](Ray::rescaled).
+    /// [`Sphere::solve`] for a direction outside its range: `None` for a ray that cannot
+    /// be traced, else along the [rescaled](Ray::rescaled) direction where it scales.
     #[cold]
     #[inline(never)]
-    fn solve_rescaled(&self, (scaled, scale): (Ray, f64)) -> Option<(f64, f64, DVec3, DVec3)> {
-        self.solve_as::<false>(&scaled)
-            .map(|(near, far, closest, chord)| (near * scale, far * scale, closest, chord))
+    fn solve_rescaled(&self, ray: &Ray) -> Option<Roots> {
+        if !ray.is_valid() {
+            return None;
+        }
+        let Some((scaled, scale)) = ray.rescaled() else {
+            return self.solve_as::<false>(ray);
+        };
+        self.solve_as::<false>(&scaled).map(|r| Roots {
+            near: r.near * scale,
+            far: r.far * scale,
+            ..r
+        })
     }
+}
+
+/// Whether `a = d.d` is in the range [`Sphere::solve`] takes without rescaling:
+/// `[2^-128, 2^66]`.
+#[inline(always)]
+fn in_range(a: f64) -> bool {
+    (1.0 / (1u128 << 64) as f64 / (1u128 << 64) as f64..=(1u128 << 66) as f64).contains(&a)
 }
 
 impl Hittable for Sphere {
@@ -296,8 +426,8 @@ impl Sphere {
     /// roots alone, not a hit record (whose point, error bound and uv would be thrown away).
     #[inline]
     fn ahead(&self, origin: DVec3, direction: DVec3) -> bool {
-        self.roots(&Ray::new(origin, direction))
-            .is_some_and(|(_, far)| far >= 0.0)
+        let ray = Ray::new(origin, direction);
+        !self.clearly_missed(&ray) && self.roots(&ray).is_some_and(|(_, far)| far >= 0.0)
     }
 
     /// The axis (unit, toward the centre) and `1 - cos theta_max` of the cone the sphere
@@ -316,5 +446,140 @@ impl Sphere {
         }
         let s2 = s * s;
         Some((axis, s2 / (1.0 + sqrt(1.0 - s2))))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Sphere;
+    use crate::{Interval, Ray};
+    use glam::DVec3;
+
+    /// A xorshift stream: uniform numbers in `[0, 1)`.
+    struct Stream(u64);
+
+    impl Stream {
+        fn uniform(&mut self) -> f64 {
+            self.0 ^= self.0 << 13;
+            self.0 ^= self.0 >> 7;
+            self.0 ^= self.0 << 17;
+            (self.0 >> 11) as f64 / (1u64 << 53) as f64
+        }
+        fn power(&mut self, lo: i32, hi: i32) -> f64 {
+            10f64.powi(lo + (self.uniform() * f64::from(hi - lo + 1)) as i32)
+        }
+        fn pick<T: Copy>(&mut self, from: &[T]) -> T {
+            from[(self.uniform() * from.len() as f64) as usize % from.len()]
+        }
+        fn unit(&mut self) -> DVec3 {
+            loop {
+                let v = DVec3::new(self.uniform(), self.uniform(), self.uniform()) * 2.0 - 1.0;
+                if v.length_squared() > 1e-4 && v.length_squared() <= 1.0 {
+                    return v.normalize();
+                }
+            }
+        }
+    }
+
+    /// The crossing as the careful path alone finds it: every ray checked, every root
+    /// clamped by the box's own test.
+    fn careful(sphere: &Sphere, ray: &Ray, ray_t: Interval) -> Option<super::Found> {
+        if !ray.is_valid() {
+            return None;
+        }
+        sphere.careful_crossing::<false>(ray, ray_t)
+    }
+
+    /// The quick decisions (the book's discriminant for misses, `Roots::clear` for the box
+    /// clamp, the checks left to the arithmetic) answer as the careful path does, bit for
+    /// bit in `t` and the vector to the hit, on adversarial rays: radii 1e-150 to 1e150,
+    /// centres up to 1e9 away, aimed at the sphere's rim (tangent, within 10^-k of it on
+    /// either side), at the six points where it touches its box, from its surface (along
+    /// it, into it, out of it), from inside, from far away, with directions from 1e-200 to
+    /// 1e200 long, and a few invalid ones. Each quick decision must be exercised, and the
+    /// box's clamp must move some roots (else the bound on `clear` would go untested).
+    #[test]
+    fn quick_decisions_answer_as_the_careful_path() {
+        let mut s = Stream(0x5eed_0f_5fe7e);
+        let (mut quick_misses, mut clear, mut clamped, mut hits) = (0, 0, 0, 0);
+        for i in 0..200_000 {
+            let radius = if i % 50 == 0 {
+                s.pick(&[1e-150, 1e150, 3e-100, 7e120])
+            } else {
+                s.power(-6, 6) * (1.0 + s.uniform())
+            };
+            let offset = s.pick(&[0.0, 1.0, 1e3, 1e6, 1e9]) * radius.max(1.0);
+            let center = s.unit() * offset;
+            let Ok(sphere) = Sphere::new(center, radius) else {
+                continue;
+            };
+            let axis = s.pick(&[DVec3::X, DVec3::Y, DVec3::Z]) * s.pick(&[-1.0, 1.0]);
+            let (origin, direction) = match (s.uniform() * 6.0) as u32 {
+                // At the rim: tangent, within 10^-k of it, on either side.
+                0 => {
+                    let d = s.unit();
+                    let side = s.unit().reject_from(d).normalize();
+                    let k = 1.0 + s.pick(&[-1.0, 1.0]) * s.power(-16, -1);
+                    let target = center + side * radius * k;
+                    (target - d * radius * s.power(-3, 8), d)
+                }
+                // At the six points where the sphere touches its box, near them.
+                1 => {
+                    let target = center + axis * radius + s.unit() * radius * s.power(-16, -1);
+                    let d = s.unit();
+                    (target - d * radius * s.power(-3, 8), d)
+                }
+                // From the surface, as a spawned ray: along it, into it, out of it.
+                2 => {
+                    let n = s.unit();
+                    let d = match s.uniform() {
+                        u if u < 0.4 => (s.unit().reject_from(n).normalize()
+                            + n * s.power(-16, -1) * s.pick(&[-1.0, 1.0]))
+                        .normalize(),
+                        u if u < 0.7 => -s.unit().abs() * n.signum(),
+                        _ => s.unit(),
+                    };
+                    (center + n * radius, d)
+                }
+                // From inside.
+                3 => (center + s.unit() * radius * s.uniform(), s.unit()),
+                // From far away, aimed anywhere near.
+                4 => {
+                    let target = center + s.unit() * radius * (0.5 + s.uniform());
+                    let d = s.unit();
+                    (target - d * radius * s.power(4, 12), d)
+                }
+                // Anywhere.
+                _ => (center + s.unit() * radius * s.power(0, 3), s.unit()),
+            };
+            let length = if i % 40 == 0 {
+                s.pick(&[1e-200, 1e200, 1e-40, 1e40, 0.0, f64::NAN, f64::INFINITY])
+            } else {
+                s.power(-3, 3)
+            };
+            let ray = Ray::new(origin, direction * length);
+            let ray_t = match i % 4 {
+                0 => Interval::FORWARD,
+                1 => Interval::UNIVERSE,
+                2 => Interval::new(1e-9 * radius / length, f64::INFINITY),
+                _ => Interval::new(0.0, radius * s.power(-1, 3) / length),
+            };
+            let quick = sphere.crossing(&ray, ray_t);
+            let reference = careful(&sphere, &ray, ray_t);
+            let bits = |f: Option<super::Found>| {
+                f.map(|f| (f.t.to_bits(), f.coords.to_array().map(f64::to_bits)))
+            };
+            assert_eq!(bits(quick), bits(reference), "{sphere:?} {ray:?} {ray_t:?}");
+            quick_misses += usize::from(sphere.clearly_missed(&ray));
+            if let (Some(found), Some(roots)) = (reference, sphere.solve(&ray)) {
+                hits += 1;
+                clear += usize::from(found.coords.abs().max_element() <= roots.clear);
+                clamped += usize::from(found.t != roots.near && found.t != roots.far);
+            }
+        }
+        assert!(
+            quick_misses > 20_000 && clear > 20_000 && clamped > 50 && hits > 50_000,
+            "{quick_misses} {clear} {clamped} {hits}"
+        );
     }
 }

@@ -171,7 +171,8 @@ impl Layout {
 
 /// *The Next Week*'s final scene: a floor of 400 boxes in a BVH, a lamp, a moving sphere,
 /// glass, metal, a glass ball of fog and a thin mist over everything, the textured and the
-/// noise spheres as plain colours, and 1,000 small spheres in a BVH, turned and moved.
+/// noise spheres as plain colours, and 1,000 small spheres in a BVH, turned and moved; the
+/// whole in a BVH.
 pub fn final_scene(width: usize, samples: usize) -> Scene {
     use Material::*;
     let materials = vec![
@@ -212,6 +213,8 @@ pub fn final_scene(width: usize, samples: usize) -> Scene {
         })
         .collect();
     let glass_ball = || Shape::Sphere(DVec3::new(360.0, 150.0, 145.0), 70.0, 3);
+    // The world in a BVH of its own, as the ports put it (`bvh_node(world)`), over the
+    // floor's BVH and the turned BVH of small spheres.
     let world = vec![
         Shape::Tree(boxes),
         Shape::Quad(
@@ -241,7 +244,7 @@ pub fn final_scene(width: usize, samples: usize) -> Scene {
     ];
     Scene {
         name: "The Next Week's final scene",
-        world,
+        world: vec![Shape::Tree(world)],
         lights: Vec::new(),
         materials,
         background: DVec3::ZERO,
