@@ -200,9 +200,11 @@ impl Plane {
         let d1 = l1(ray.direction);
         // (Decided by `d1`, which the bounds need anyway. Tried: a test of the direction's
         // components on every call; slower on the quads scene.) An ordinary direction's
-        // `n.d` is finite, so only `t` is left to check.
+        // `n.d` is finite; an infinite or NaN `t` (a ray parallel to the plane, or nearly
+        // so from far away) makes an infinite or NaN bound below, which decides nothing
+        // quickly, and the pending decision turns it away (its coordinates are not finite).
         let ordinary = ordinary_length(d1);
-        if !(t.abs() < f64::INFINITY && ordinary && t >= ray_t.min) {
+        if !(ordinary && t >= ray_t.min) {
             return (!ordinary).then_some(Crossing::Rescale);
         }
         let c = denom.abs();
