@@ -26,6 +26,8 @@ pub struct Sphere {
     radius: f64,
     /// `radius * radius`, made once: every query needs it.
     radius_squared: f64,
+    /// `radius_squared (1 + MISS)`, for [`Sphere::clearly_missed`].
+    radius_squared_high: f64,
     /// The part of [`Roots::clear`] that depends on the sphere alone.
     box_room: f64,
     material: MaterialId,
@@ -61,6 +63,7 @@ impl Sphere {
             center,
             radius,
             radius_squared: radius * radius,
+            radius_squared_high: radius * radius * (1.0 + MISS),
             box_room: gamma(64) * gamma(2) * center.abs().max_element() + 4.0 * f64::MIN_POSITIVE,
             material: MaterialId::default(),
             bbox,
@@ -210,6 +213,9 @@ struct Roots {
     clear: f64,
 }
 
+/// The relative margin of [`Sphere::clearly_missed`].
+const MISS: f64 = gamma(128);
+
 /// The factor of `|f|_inf + r` in [`Roots::clear`].
 const CLEAR: f64 = gamma(2048);
 
@@ -226,22 +232,26 @@ impl Sphere {
     }
 
     /// Whether the ray misses the sphere by a margin that the careful discriminant's
-    /// rounding cannot close, decided by the book's arithmetic: `b^2 - a c` with
+    /// rounding cannot close, decided by the book's arithmetic: `b^2 < a c` with
     /// `a = d.d`, `b = f.d`, `c = f.f - r^2` (`f = o - center`, as computed; `r^2` the
-    /// stored square), whose exact value is `a` times the exact discriminant
-    /// `r^2 - |f - (b / a) d|^2` that [`Sphere::solve`] computes.
+    /// stored square), whose exact difference `b^2 - a c` is `a` times the exact
+    /// discriminant `r^2 - |f - (b / a) d|^2` that [`Sphere::solve`] computes, with the
+    /// margin folded into `c`: `b^2 + 2^-900 < a (f.f (1 - G) - r^2 (1 + G))`,
+    /// `G = gamma(128)`, `r^2 (1 + G)` made once per sphere.
     ///
     /// Derivation (`u_r` the unit roundoff, `S = a (f.f + r^2)`, and `|f| |d|` bounding
-    /// `sum |f_i d_i|`): the computed `b^2 - a c` is within `2 gamma(10) S` of the exact
-    /// one (each of `a`, `b`, `f.f` carries `gamma(3)` of its magnitudes, `b^2 <= a f.f`);
-    /// the careful one's closest point errs by `gamma(23) |f|` (the quotient `b / a` by
-    /// `gamma(9) |f| / |d|`, its product and difference by a few `u_r` more, `|closest| <=
-    /// |f|`), so its discriminant by `gamma(51) (f.f + r^2)`, or `gamma(51) S` once times
-    /// `a`. A book's discriminant below `-gamma(128) S` is so below `-gamma(51) S` exactly,
-    /// and the careful one is negative: the same miss. An absolute `gamma(128) 2^-900`
-    /// covers what underflow adds (at most a few `2^-1074`, times `a <= 2^66`). Only for
-    /// `a` in the range [`Sphere::solve`] takes without rescaling; a NaN or infinity
-    /// anywhere (an invalid ray) decides nothing here.
+    /// `sum |f_i d_i|`, so `b^2 <= a f.f`): `a`, `b` and `f.f` carry `gamma(3)` of their
+    /// magnitudes, so the exact `b^2` is at most the computed one plus `gamma(7) a f.f`,
+    /// and the right side, rounded four more times, is within `gamma(10)` of its exact
+    /// value; a test that holds so makes the exact `b^2 - a c` at most `-(G - gamma(20)) S`.
+    /// The careful discriminant's closest point errs by `gamma(23) |f|` (the quotient
+    /// `b / a` by `gamma(9) |f| / |d|`, its product and difference by a few `u_r` more,
+    /// `|closest| <= |f|`), so the discriminant by `gamma(51) (f.f + r^2)`, or
+    /// `gamma(51) S` once times `a`: below `-(G - gamma(20)) S` exactly, it is negative as
+    /// computed, the same miss. The `2^-900` covers what underflow adds (at most a few
+    /// `2^-1074`, times `a <= 2^66`). Only for `a` in the range [`Sphere::solve`] takes
+    /// without rescaling; a NaN or infinity anywhere (an invalid ray, or squares past f64's
+    /// range) decides nothing here.
     #[inline(always)]
     fn clearly_missed(&self, ray: &Ray) -> bool {
         // 2^-900.
@@ -249,9 +259,9 @@ impl Sphere {
         let f = ray.origin - self.center;
         let d = ray.direction;
         let (a, b, ff) = (d.dot(d), f.dot(d), f.dot(f));
-        let r2 = self.radius_squared;
-        let margin = gamma(128) * (a * (ff + r2) + TINY);
-        in_range(a) && b * b - a * (ff - r2) < -margin
+        // (An infinite right side, `f.f` past f64's range, decides nothing.)
+        let c_times_a = a * (ff * (1.0 - MISS) - self.radius_squared_high);
+        in_range(a) && b * b + TINY < c_times_a && c_times_a <= f64::MAX
     }
 
     /// The careful crossing: [`Sphere::solve`]'s roots, clamped into the box's span where
