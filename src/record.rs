@@ -185,8 +185,8 @@ impl Made {
 /// products and sums (a quad's point from `(alpha, beta)`, kept in its box); the
 /// `shading_normal` a copy of `normal`, or a mesh's interpolation of its vertex normals;
 /// `uv` a quad's `(alpha, beta)`, but a sphere's an `acos` and an `atan2`, its dearest
-/// field. In `benches/port` (callgrind), a quad's record took about 160 instructions (its
-/// search about 110) and a sphere's about 360. A query that needs less asks for
+/// field. In `benches/port` (callgrind), a quad's record takes about 160 instructions (its
+/// search about 100) and a sphere's about 330. A query that needs less asks for
 /// less: [`occluded`](crate::Hittable::occluded) for a shadow ray, `find` where `t` alone
 /// is read (a medium's exit). At 152 bytes, a record is past the 128 that the compiler
 /// copies in registers: pass it by reference where you can.

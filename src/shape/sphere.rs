@@ -161,7 +161,7 @@ impl Sphere {
         let scale = root / a;
         // `|d_i| <= sqrt(a)`, so a finite `root / a` makes a half chord of at most about
         // `sqrt(discriminant) <= r` per coordinate: finite.
-        if near.is_nan() || far.is_nan() || !(scale < f64::INFINITY) {
+        if near.is_nan() || far.is_nan() || scale == f64::INFINITY {
             return None;
         }
         // See `Roots::clear`: `c / q` is as accurate as the point needs where
@@ -510,7 +510,7 @@ mod tests {
     /// box's clamp must move some roots (else the bound on `clear` would go untested).
     #[test]
     fn quick_decisions_answer_as_the_careful_path() {
-        let mut s = Stream(0x5eed_0f_5fe7e);
+        let mut s = Stream(0x05ee_d0f5_fe7e);
         let (mut quick_misses, mut clear, mut clamped, mut hits) = (0, 0, 0, 0);
         for i in 0..200_000 {
             let radius = if i % 50 == 0 {
