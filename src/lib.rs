@@ -82,7 +82,10 @@
 //! 3. **Boxes agree with shapes.** A shape never reports a hit outside its own
 //!    [`bounding_box`](Hittable::bounding_box)'s span along the ray, and its `t` does not
 //!    depend on the range's upper end: a [`Bvh`] returns exactly what a loop over its
-//!    objects returns, on every ray from any distance.
+//!    objects returns, on every ray from any distance. Masks too: an object under nested
+//!    [`Masked`] wrappers (directly, or with trees, lists and instances between them) is
+//!    seen by the rays whose mask shares a bit with all of its masks together (their
+//!    AND), whether it is asked directly or through a list or a [`Bvh`].
 //! 4. **No NaN.** Nothing returned (hit record, box, density, direction, spawned ray) is
 //!    NaN or infinite, for any input, subnormals, `f64::MAX`, infinities and NaN included:
 //!    bad input is a [`GeometryError`] at construction, a ray that cannot be traced hits

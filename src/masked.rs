@@ -12,6 +12,11 @@ use crate::{Aabb, HitRecord, Hittable, Interval, LightSample, PdfHittable, Ray, 
 /// masks do not meet; so does it on its own. Sampling it as a light is unaffected: a
 /// lamp invisible to the camera still lights the scene.
 ///
+/// Inside, the ray's mask is narrowed to `mask`'s bits, so that masks nested through any
+/// wrapper or container mean their AND: an object inside `Masked`s (of it, or of a tree or
+/// an instance holding it) is seen by the rays whose mask shares a bit with all of them
+/// together, whether asked directly or through a list or a [`Bvh`](crate::Bvh).
+///
 /// ```
 /// use hitkit::glam::DVec3;
 /// use hitkit::{Bvh, Hittable, Interval, Masked, Ray, Sphere};
@@ -60,13 +65,20 @@ pub(crate) fn sees<T: Hittable + ?Sized>(ray: &Ray, object: &T) -> bool {
     ray.mask == u32::MAX || ray.mask & object.mask() != 0
 }
 
+impl<T> Masked<T> {
+    /// The ray as the object sees it: its mask narrowed to this one's bits; `None` where
+    /// none are left.
+    #[inline(always)]
+    fn narrowed(&self, ray: &Ray) -> Option<Ray> {
+        let mask = ray.mask & self.mask;
+        (mask != 0).then(|| ray.with_mask(mask))
+    }
+}
+
 impl<T: Hittable> Hittable for Masked<T> {
     #[inline]
     fn hit(&self, ray: &Ray, ray_t: Interval) -> Option<HitRecord> {
-        if ray.mask & self.mask == 0 {
-            return None;
-        }
-        self.object.hit(ray, ray_t)
+        self.object.hit(&self.narrowed(ray)?, ray_t)
     }
 
     #[inline]
@@ -76,23 +88,22 @@ impl<T: Hittable> Hittable for Masked<T> {
 
     #[inline]
     fn occluded(&self, ray: &Ray, ray_t: Interval) -> bool {
-        ray.mask & self.mask != 0 && self.object.occluded(ray, ray_t)
+        self.narrowed(ray)
+            .is_some_and(|ray| self.object.occluded(&ray, ray_t))
     }
 
     #[inline]
     fn find(&self, ray: &Ray, ray_t: Interval, made: &mut Made) -> Option<Found> {
-        if ray.mask & self.mask == 0 {
-            return None;
-        }
-        self.object.find(ray, ray_t, made)
+        self.object.find(&self.narrowed(ray)?, ray_t, made)
     }
 
     #[inline]
     fn record(&self, ray: &Ray, ray_t: Interval, found: &Found) -> Option<HitRecord> {
-        self.object.record(ray, ray_t, found)
+        self.object.record(&self.narrowed(ray)?, ray_t, found)
     }
 
-    /// The mask given, and the object's own: seen by rays that meet both.
+    /// The mask given and the object's own, together (their AND): the rays that see it
+    /// are those whose mask meets it, as [`hit`](Hittable::hit) finds.
     #[inline]
     fn mask(&self) -> u32 {
         self.mask & self.object.mask()

@@ -127,3 +127,67 @@ fn a_masked_light_is_sampled_as_the_light() {
         ball.pdf_value(DVec3::ZERO, d)
     );
 }
+
+/// Masks nested through wrappers and containers mean their AND, asked directly, through a
+/// list or through a `Bvh`: a ball under random stacks of `Masked` (masks of a few of
+/// eight bits), instances, trees, lists and boxes, seen by a ray aimed at it exactly where
+/// the ray's mask meets every mask of the stack together, in `hit`, `find` (through the
+/// containers) and `occluded` alike. Before masks narrowed the ray inside, a `Masked` of a
+/// `Masked` was hit directly by a ray meeting both masks apart, and passed over by a list
+/// whose check took their AND.
+#[test]
+fn nested_masks_mean_their_and_through_every_container() {
+    let mut rng = SplitMix::new(48);
+    let (mut seen, mut unseen, mut apart) = (0, 0, 0);
+    for _ in 0..3000 {
+        let ball = Sphere::new(DVec3::new(0.0, 0.0, -5.0), 1.0).unwrap();
+        let mut object: Box<dyn Hittable> = Box::new(ball);
+        let mut masks = Vec::new();
+        for _ in 0..1 + rng.next_u64() % 5 {
+            object = match rng.next_u64() % 5 {
+                0 | 1 => {
+                    let mask = (0..3).fold(0u32, |m, _| m | 1 << (rng.next_u64() % 8));
+                    masks.push(mask);
+                    Box::new(Masked::new(object, mask))
+                }
+                2 => Box::new(Transformed::new(object, DQuat::IDENTITY, DVec3::ZERO).unwrap()),
+                3 => Box::new(Bvh::new(vec![object])),
+                _ => Box::new(vec![object]),
+            };
+        }
+        let all = masks.iter().fold(u32::MAX, |m, &k| m & k);
+        for _ in 0..8 {
+            let mask = (0..3).fold(0u32, |m, _| m | 1 << (rng.next_u64() % 8));
+            let ray = Ray::new(DVec3::ZERO, DVec3::NEG_Z).with_mask(mask);
+            let expected = mask & all != 0;
+            let list = vec![&object];
+            let tree = Bvh::new(vec![&object]);
+            for (what, hit) in [
+                ("direct", object.hit(&ray, FORWARD)),
+                ("list", list.hit(&ray, FORWARD)),
+                ("tree", tree.hit(&ray, FORWARD)),
+            ] {
+                assert_eq!(
+                    hit.map(|h| h.t),
+                    expected.then_some(4.0),
+                    "{what} {masks:?} {mask:b}"
+                );
+            }
+            for (what, occluded) in [
+                ("direct", object.occluded(&ray, FORWARD)),
+                ("list", list.occluded(&ray, FORWARD)),
+                ("tree", tree.occluded(&ray, FORWARD)),
+            ] {
+                assert_eq!(occluded, expected, "{what} occluded {masks:?} {mask:b}");
+            }
+            seen += usize::from(expected);
+            unseen += usize::from(!expected);
+            // The case that differed: the ray meets every mask apart, not their AND.
+            apart += usize::from(!expected && masks.iter().all(|&k| mask & k != 0));
+        }
+    }
+    assert!(
+        seen > 1000 && unseen > 1000 && apart > 100,
+        "{seen} {unseen} {apart}"
+    );
+}
