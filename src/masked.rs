@@ -76,9 +76,15 @@ impl<T> Masked<T> {
 }
 
 impl<T: Hittable> Hittable for Masked<T> {
+    /// The record carries the mask the ray came with, not the narrowed one: rays spawned
+    /// from it see what the ray saw.
     #[inline]
     fn hit(&self, ray: &Ray, ray_t: Interval) -> Option<HitRecord> {
-        self.object.hit(&self.narrowed(ray)?, ray_t)
+        let record = self.object.hit(&self.narrowed(ray)?, ray_t)?;
+        Some(HitRecord {
+            mask: ray.mask,
+            ..record
+        })
     }
 
     #[inline]
@@ -94,12 +100,20 @@ impl<T: Hittable> Hittable for Masked<T> {
 
     #[inline]
     fn find(&self, ray: &Ray, ray_t: Interval, made: &mut Made) -> Option<Found> {
-        self.object.find(&self.narrowed(ray)?, ray_t, made)
+        let found = self.object.find(&self.narrowed(ray)?, ray_t, made)?;
+        if found.is_made() {
+            made.kept_mut().mask = ray.mask;
+        }
+        Some(found)
     }
 
     #[inline]
     fn record(&self, ray: &Ray, ray_t: Interval, found: &Found) -> Option<HitRecord> {
-        self.object.record(&self.narrowed(ray)?, ray_t, found)
+        let record = self.object.record(&self.narrowed(ray)?, ray_t, found)?;
+        Some(HitRecord {
+            mask: ray.mask,
+            ..record
+        })
     }
 
     /// The mask given and the object's own, together (their AND): the rays that see it

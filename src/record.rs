@@ -138,6 +138,7 @@ impl Made {
             primitive: None,
             instance: None,
             time: 0.0,
+            mask: u32::MAX,
         })
     }
 
@@ -180,15 +181,15 @@ impl Made {
 /// # What it costs
 /// A search builds one record per query, for the closest hit alone
 /// ([`find`](crate::Hittable::find), then [`record`](crate::Hittable::record)), so its
-/// fields are paid once a ray: `t`, `material`, `primitive`, `instance` and `time` are
-/// copies; `normal` and `front_face` one dot product; `point` and `point_error` a few
+/// fields are paid once a ray: `t`, `material`, `primitive`, `instance`, `time` and
+/// `mask` are copies; `normal` and `front_face` one dot product; `point` and `point_error` a few
 /// products and sums (a quad's point from `(alpha, beta)`, kept in its box); the
 /// `shading_normal` a copy of `normal`, or a mesh's interpolation of its vertex normals;
 /// `uv` a quad's `(alpha, beta)`, but a sphere's an `acos` and an `atan2`, its dearest
 /// field. In `benches/port` (callgrind), a quad's record takes about 160 instructions (its
 /// search about 100) and a sphere's about 330. A query that needs less asks for
 /// less: [`occluded`](crate::Hittable::occluded) for a shadow ray, `find` where `t` alone
-/// is read (a medium's exit). At 152 bytes, a record is past the 128 that the compiler
+/// is read (a medium's exit). At 160 bytes, a record is past the 128 that the compiler
 /// copies in registers: pass it by reference where you can.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
@@ -220,6 +221,19 @@ pub struct HitRecord {
     pub instance: Option<u32>,
     /// The ray's [`time`](Ray::time), which [`HitRecord::spawn_ray`] passes on.
     pub time: f64,
+    /// The [`mask`](Ray::mask) of the ray that made the hit (through any instance or
+    /// [`Masked`](crate::Masked) wrapper: the mask it came with), which
+    /// [`HitRecord::spawn_ray`] and [`HitRecord::spawn_ray_to`] pass on, so that a bounce
+    /// or a shadow ray sees what its parent saw. Set another with [`Ray::with_mask`] on the
+    /// spawned ray.
+    #[cfg_attr(feature = "serde", serde(default = "every_bit"))]
+    pub mask: u32,
+}
+
+/// The mask of a ray that sees everything, for a record serialized without one.
+#[cfg(feature = "serde")]
+fn every_bit() -> u32 {
+    u32::MAX
 }
 
 impl HitRecord {
@@ -264,6 +278,7 @@ impl HitRecord {
             primitive: None,
             instance: None,
             time: ray.time,
+            mask: ray.mask,
         }
     }
 
@@ -333,7 +348,9 @@ impl HitRecord {
     #[inline]
     #[must_use]
     pub fn spawn_ray(&self, direction: DVec3) -> Ray {
-        Ray::new(self.spawn_origin(direction), direction).at_time(self.time)
+        Ray::new(self.spawn_origin(direction), direction)
+            .at_time(self.time)
+            .with_mask(self.mask)
     }
 
     /// A shadow ray from this hit to `target` (a light's surface, as
@@ -378,7 +395,9 @@ impl HitRecord {
             + FAR_END * (self.point.abs().max_element() + target.point.abs().max_element());
         let end = target.point + height * toward;
         let origin = self.spawn_origin(end - self.point);
-        let ray = Ray::new(origin, end - origin).at_time(self.time);
+        let ray = Ray::new(origin, end - origin)
+            .at_time(self.time)
+            .with_mask(self.mask);
         if ray.is_valid() && end.is_finite() {
             (ray, Interval::new(0.0, 1.0))
         } else {

@@ -191,3 +191,45 @@ fn nested_masks_mean_their_and_through_every_container() {
         "{seen} {unseen} {apart}"
     );
 }
+
+/// A spawned ray keeps the mask of the ray that made the hit: `spawn_ray` and
+/// `spawn_ray_to` from a hit found directly, through a list, a `Bvh`, an instance and
+/// `Masked` wrappers (whose narrowing of the ray inside does not reach the record), and
+/// from a record made during a search (an instance's) alike. Before, spawned rays saw
+/// everything, whatever their parent saw.
+#[test]
+fn spawned_rays_keep_the_mask_of_the_ray_that_made_the_hit() {
+    let ball = Sphere::new(DVec3::new(0.0, 0.0, -5.0), 1.0).unwrap();
+    let turned = Transformed::new(ball, DQuat::from_rotation_z(0.3), DVec3::ZERO).unwrap();
+    let objects: Vec<Box<dyn Hittable>> = vec![
+        Box::new(ball),
+        Box::new(Masked::new(ball, 0b0110)),
+        Box::new(Masked::new(Masked::new(ball, 0b0111), 0b1110)),
+        Box::new(turned),
+        Box::new(Masked::new(turned, 0b0010)),
+        Box::new(
+            Transformed::new(Masked::new(ball, 0b0110), DQuat::IDENTITY, DVec3::ZERO).unwrap(),
+        ),
+    ];
+    let light = Sphere::new(DVec3::new(0.0, 10.0, -5.0), 1.0).unwrap();
+    let target = light
+        .hit(&Ray::new(DVec3::new(0.0, 0.0, -5.0), DVec3::Y), FORWARD)
+        .unwrap();
+    for object in &objects {
+        for mask in [0b0010u32, 0b0110, u32::MAX] {
+            let ray = Ray::new(DVec3::ZERO, DVec3::NEG_Z).with_mask(mask);
+            let list = vec![object];
+            let tree = Bvh::new(vec![object]);
+            for hit in [
+                object.hit(&ray, FORWARD),
+                list.hit(&ray, FORWARD),
+                tree.hit(&ray, FORWARD),
+            ] {
+                let hit = hit.expect("every object meets these masks");
+                assert_eq!(hit.mask, mask);
+                assert_eq!(hit.spawn_ray(DVec3::Z).mask, mask);
+                assert_eq!(hit.spawn_ray_to(&target).0.mask, mask);
+            }
+        }
+    }
+}

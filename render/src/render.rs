@@ -246,7 +246,9 @@ fn radiance<W: Hittable, const BG: bool, const EMIT: bool, const LIGHTS: bool>(
                 }
             }
         };
-        ray = hit.spawn_ray(direction);
+        // The camera's mask is for the camera's rays: a bounce sees everything (a lamp the
+        // camera does not see still lights what a bounce finds).
+        ray = hit.spawn_ray(direction).with_mask(u32::MAX);
         if settings.roulette && depth >= ROULETTE_FROM {
             let p = throughput.max_element().min(0.95);
             if p.is_nan() || rng.random::<f64>() >= p {
@@ -278,7 +280,7 @@ fn next_event<W: Hittable>(
         return Color::ZERO;
     }
     let (shadow, range) = hit.spawn_ray_to(&sample.record);
-    if scene.world.occluded(&shadow, range) {
+    if scene.world.occluded(&shadow.with_mask(u32::MAX), range) {
         return Color::ZERO;
     }
     let weight = power_heuristic(sample.pdf, cos / PI);
