@@ -332,6 +332,48 @@ pub(crate) fn l1(v: glam::DVec3) -> f64 {
     v.abs().element_sum()
 }
 
+/// A xorshift stream for the crate's own tests: uniform numbers in `[0, 1)` and what the
+/// tests draw from them.
+#[cfg(test)]
+pub(crate) struct Stream(pub(crate) u64);
+
+#[cfg(test)]
+impl Stream {
+    pub(crate) fn uniform(&mut self) -> f64 {
+        self.0 ^= self.0 << 13;
+        self.0 ^= self.0 >> 7;
+        self.0 ^= self.0 << 17;
+        (self.0 >> 11) as f64 / (1u64 << 53) as f64
+    }
+    pub(crate) fn range(&mut self, lo: f64, hi: f64) -> f64 {
+        lo + (hi - lo) * self.uniform()
+    }
+    /// `10^k` for a whole `k` in `[lo, hi]`.
+    pub(crate) fn power(&mut self, lo: i32, hi: i32) -> f64 {
+        10f64.powi(lo + (self.uniform() * f64::from(hi - lo + 1)) as i32)
+    }
+    /// A point of the cube `[-1, 1)^3`.
+    pub(crate) fn vector(&mut self) -> glam::DVec3 {
+        glam::DVec3::new(
+            self.range(-1.0, 1.0),
+            self.range(-1.0, 1.0),
+            self.range(-1.0, 1.0),
+        )
+    }
+    /// A unit vector, uniform over the sphere (drawn in the ball, not too near its centre).
+    pub(crate) fn unit(&mut self) -> glam::DVec3 {
+        loop {
+            let v = self.vector();
+            if v.length_squared() > 1e-4 && v.length_squared() <= 1.0 {
+                return v.normalize();
+            }
+        }
+    }
+    pub(crate) fn pick<T: Copy>(&mut self, from: &[T]) -> T {
+        from[(self.uniform() * from.len() as f64) as usize % from.len()]
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::{Dd, mul_add};

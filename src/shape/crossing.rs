@@ -600,43 +600,19 @@ fn beyond(p: &Parts, t: f64, min: f64) -> bool {
 #[cfg(test)]
 mod tests {
     use super::{Clearly, Plane, beyond};
-    use crate::math::l1;
+    use crate::math::{Stream, l1};
     use crate::{Interval, Ray};
     use glam::{DVec2, DVec3};
 
-    /// A xorshift stream: uniform numbers in `[0, 1)`.
-    struct Stream(u64);
-
-    impl Stream {
-        fn uniform(&mut self) -> f64 {
-            self.0 ^= self.0 << 13;
-            self.0 ^= self.0 >> 7;
-            self.0 ^= self.0 << 17;
-            (self.0 >> 11) as f64 / (1u64 << 53) as f64
+    /// A plane coordinate: anywhere around the unit interval, or within `10^-j` of one of
+    /// its ends (or of the ends of `[-1, 1]`), on either side.
+    fn coordinate(s: &mut Stream) -> f64 {
+        if s.uniform() < 0.3 {
+            return s.range(-1.5, 1.5);
         }
-        fn range(&mut self, lo: f64, hi: f64) -> f64 {
-            lo + (hi - lo) * self.uniform()
-        }
-        fn power(&mut self, lo: i32, hi: i32) -> f64 {
-            10f64.powi(lo + (self.uniform() * f64::from(hi - lo + 1)) as i32)
-        }
-        fn vector(&mut self) -> DVec3 {
-            DVec3::new(
-                self.range(-1.0, 1.0),
-                self.range(-1.0, 1.0),
-                self.range(-1.0, 1.0),
-            )
-        }
-        /// A plane coordinate: anywhere around the unit interval, or within `10^-j` of one
-        /// of its ends (or of the ends of `[-1, 1]`), on either side.
-        fn coordinate(&mut self) -> f64 {
-            if self.uniform() < 0.3 {
-                return self.range(-1.5, 1.5);
-            }
-            let edge = [0.0, 1.0, -1.0][(self.uniform() * 3.0) as usize];
-            let side = if self.uniform() < 0.5 { -1.0 } else { 1.0 };
-            edge + side * self.power(-17, -1)
-        }
+        let edge = [0.0, 1.0, -1.0][(s.uniform() * 3.0) as usize];
+        let side = if s.uniform() < 0.5 { -1.0 } else { 1.0 };
+        edge + side * s.power(-17, -1)
     }
 
     /// How far the region reaches from its centre per coordinate, and whether it lies
@@ -680,7 +656,7 @@ mod tests {
             let Ok(plane) = Plane::new(q, u, v) else {
                 continue;
             };
-            let target = q + s.coordinate() * u + s.coordinate() * v;
+            let target = q + coordinate(&mut s) * u + coordinate(&mut s) * v;
             let direction = if s.uniform() < 0.5 {
                 s.vector()
             } else {

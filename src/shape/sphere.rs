@@ -462,34 +462,9 @@ impl Sphere {
 #[cfg(test)]
 mod tests {
     use super::Sphere;
+    use crate::math::Stream;
     use crate::{Interval, Ray};
     use glam::DVec3;
-
-    /// A xorshift stream: uniform numbers in `[0, 1)`.
-    struct Stream(u64);
-
-    impl Stream {
-        fn uniform(&mut self) -> f64 {
-            self.0 ^= self.0 << 13;
-            self.0 ^= self.0 >> 7;
-            self.0 ^= self.0 << 17;
-            (self.0 >> 11) as f64 / (1u64 << 53) as f64
-        }
-        fn power(&mut self, lo: i32, hi: i32) -> f64 {
-            10f64.powi(lo + (self.uniform() * f64::from(hi - lo + 1)) as i32)
-        }
-        fn pick<T: Copy>(&mut self, from: &[T]) -> T {
-            from[(self.uniform() * from.len() as f64) as usize % from.len()]
-        }
-        fn unit(&mut self) -> DVec3 {
-            loop {
-                let v = DVec3::new(self.uniform(), self.uniform(), self.uniform()) * 2.0 - 1.0;
-                if v.length_squared() > 1e-4 && v.length_squared() <= 1.0 {
-                    return v.normalize();
-                }
-            }
-        }
-    }
 
     /// The crossing as the careful path alone finds it: every ray checked, every root
     /// clamped by the box's own test.
