@@ -40,9 +40,10 @@ pub struct Ray {
     pub mask: u32,
 }
 
-/// The mask of a ray that sees everything.
+/// The mask of a ray that sees everything (serde's default for a ray or a record without
+/// one).
 #[cfg(feature = "serde")]
-fn every_bit() -> u32 {
+pub(crate) fn every_bit() -> u32 {
     u32::MAX
 }
 

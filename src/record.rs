@@ -226,14 +226,8 @@ pub struct HitRecord {
     /// [`HitRecord::spawn_ray`] and [`HitRecord::spawn_ray_to`] pass on, so that a bounce
     /// or a shadow ray sees what its parent saw. Set another with [`Ray::with_mask`] on the
     /// spawned ray.
-    #[cfg_attr(feature = "serde", serde(default = "every_bit"))]
+    #[cfg_attr(feature = "serde", serde(default = "crate::ray::every_bit"))]
     pub mask: u32,
-}
-
-/// The mask of a ray that sees everything, for a record serialized without one.
-#[cfg(feature = "serde")]
-fn every_bit() -> u32 {
-    u32::MAX
 }
 
 impl HitRecord {
