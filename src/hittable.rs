@@ -137,7 +137,8 @@ pub trait PdfHittable: Hittable {
     /// sample (see [`LightSample::along`]).
     ///
     /// The provided one draws [`sample_direction`](PdfHittable::sample_direction) from
-    /// `at.point` and finds the light's surface along it with [`hit`](Hittable::hit).
+    /// `at.point` and finds the light's surface along it with
+    /// [`light_hit`](PdfHittable::light_hit).
     fn sample_light(&self, at: &ShadingContext, u: DVec2) -> Option<LightSample> {
         LightSample::along(self, at, self.sample_direction(at.point, u))
     }
@@ -148,6 +149,18 @@ pub trait PdfHittable: Hittable {
     /// The provided one is [`pdf_value`](PdfHittable::pdf_value) from `at.point`.
     fn light_pdf(&self, at: &ShadingContext, direction: DVec3) -> f64 {
         self.pdf_value(at.point, direction)
+    }
+
+    /// The light's first surface along `ray` within `ray_t`, as
+    /// [`sample_light`](PdfHittable::sample_light) finds it: [`hit`](Hittable::hit), but
+    /// whatever the masks, since a mask says which rays see a light, not where it is (a
+    /// lamp hidden from every ray by [`Masked`](crate::Masked) is found here, under any
+    /// wrapper or mixture).
+    ///
+    /// The provided one is `hit`, right for a light that holds no `Masked`; a light that
+    /// holds others (an instance, a mixture, a tree) asks theirs.
+    fn light_hit(&self, ray: &Ray, ray_t: Interval) -> Option<HitRecord> {
+        self.hit(ray, ray_t)
     }
 }
 
@@ -198,6 +211,10 @@ macro_rules! forward_through {
             fn light_pdf(&self, at: &ShadingContext, direction: DVec3) -> f64 {
                 (**self).light_pdf(at, direction)
             }
+            #[inline]
+            fn light_hit(&self, ray: &Ray, ray_t: Interval) -> Option<HitRecord> {
+                (**self).light_hit(ray, ray_t)
+            }
         }
     };
 }
@@ -232,8 +249,9 @@ impl Made {
 }
 
 impl LightSample {
-    /// The sample along `direction` from `at`: the first surface of `light` there, and the
-    /// light's density of the direction. `None` where the direction finds no surface of
+    /// The sample along `direction` from `at`: the first surface of `light` there
+    /// ([`light_hit`](PdfHittable::light_hit), whatever its masks), and the light's
+    /// density of the direction. `None` where the direction finds no surface of
     /// the light (a zero direction, a sample rounding aimed past an edge) or has density 0.
     ///
     /// What [`PdfHittable::sample_light`] returns for a direction its sampler drew; a light
@@ -267,7 +285,7 @@ impl LightSample {
         if !ray.is_valid() {
             return None;
         }
-        let record = light.hit(&ray, Interval::FORWARD)?;
+        let record = light.light_hit(&ray, Interval::FORWARD)?;
         let pdf = pdf(direction);
         let distance = record.t;
         (pdf > 0.0 && pdf.is_finite() && distance.is_finite()).then_some(Self {

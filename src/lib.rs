@@ -85,7 +85,8 @@
 //!    objects returns, on every ray from any distance. Masks too: an object under nested
 //!    [`Masked`] wrappers (directly, or with trees, lists and instances between them) is
 //!    seen by the rays whose mask shares a bit with all of its masks together (their
-//!    AND), whether it is asked directly or through a list or a [`Bvh`].
+//!    AND), whether it is asked directly or through a list or a [`Bvh`]. A mask never
+//!    changes how a light is sampled ([`PdfHittable::light_hit`]).
 //! 4. **No NaN.** Nothing returned (hit record, box, density, direction, spawned ray) is
 //!    NaN or infinite, for any input, subnormals, `f64::MAX`, infinities and NaN included:
 //!    bad input is a [`GeometryError`] at construction, a ray that cannot be traced hits

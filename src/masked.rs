@@ -143,4 +143,8 @@ impl<T: PdfHittable> PdfHittable for Masked<T> {
     fn light_pdf(&self, at: &ShadingContext, direction: DVec3) -> f64 {
         self.object.light_pdf(at, direction)
     }
+    #[inline]
+    fn light_hit(&self, ray: &Ray, ray_t: Interval) -> Option<HitRecord> {
+        self.object.light_hit(ray, ray_t)
+    }
 }

@@ -233,3 +233,117 @@ fn spawned_rays_keep_the_mask_of_the_ray_that_made_the_hit() {
         }
     }
 }
+
+/// A mask never changes sampling: a lamp (a quad, a ball, a mesh of two faces) under random
+/// stacks of wrappers (rigid and affine instances, boxes, `Arc`s, a `Vec`, a `Mixture` and
+/// a `LightTree`, each of the stack and a second lamp), with `Masked` of random masks (0
+/// among them) put in at random places, samples, and gives `light_pdf`, bit for bit as the
+/// same stack without them: `sample_light` finds the light's surface whatever the masks.
+/// Before, a lamp masked from every ray under an instance, a mixture or a tree sampled
+/// nothing where it was picked.
+#[test]
+fn masks_never_change_sampling_through_any_wrapper() {
+    use hitkit::glam::{DAffine3, DMat3, DVec2};
+    use hitkit::{Emission, LightTree, Mixture, PdfHittable, Quad, ShadingContext, TriangleMesh};
+    use std::sync::Arc;
+    type Light = Box<dyn PdfHittable>;
+
+    let mut rng = SplitMix::new(4803);
+    let mut compared = 0;
+    for trial in 0..600 {
+        let lamp = move || -> Light {
+            match trial % 3 {
+                0 => Box::new(
+                    Quad::new(DVec3::new(-1.0, 4.0, -1.0), 2.0 * DVec3::X, 2.0 * DVec3::Z).unwrap(),
+                ),
+                1 => Box::new(Sphere::new(DVec3::new(0.5, 5.0, 0.0), 1.0).unwrap()),
+                _ => Box::new(
+                    TriangleMesh::new(
+                        &[
+                            DVec3::new(-1.0, 4.0, -1.0),
+                            DVec3::new(1.0, 4.0, -1.0),
+                            DVec3::new(1.0, 4.5, 1.0),
+                            DVec3::new(-1.0, 4.0, 1.0),
+                        ],
+                        &[[0, 1, 2], [0, 2, 3]],
+                    )
+                    .unwrap(),
+                ),
+            }
+        };
+        let other = || -> Light {
+            Box::new(Quad::new(DVec3::new(3.0, 6.0, -1.0), DVec3::Z, DVec3::X).unwrap())
+        };
+        // The plan, drawn once: (wrapper, mask put outside it or not).
+        let plan: Vec<(u64, Option<u32>)> = (0..1 + rng.next_u64() % 4)
+            .map(|_| {
+                let kind = rng.next_u64() % 7;
+                let mask = match rng.next_u64() % 3 {
+                    0 => None,
+                    1 => Some(0),
+                    _ => Some(1 << (rng.next_u64() % 8)),
+                };
+                (kind, mask)
+            })
+            .collect();
+        let turn = DMat3::from_quat(DQuat::from_axis_angle(
+            rng.direction(),
+            6.0 * rng.next_f64(),
+        ));
+        let shift = 4.0 * (rng.vec3() - 0.5);
+        let stretch = DMat3::from_diagonal(DVec3::new(1.0, 0.5, 3.0)) * turn;
+        let build = |with_masks: bool| -> Light {
+            let mut light: Light = lamp();
+            if with_masks {
+                light = Box::new(Masked::new(light, 0));
+            }
+            for &(kind, mask) in &plan {
+                light = match kind {
+                    0 => Box::new(Transformed::new(light, DQuat::from_mat3(&turn), shift).unwrap()),
+                    1 => Box::new(
+                        Transformed::affine(light, DAffine3::from_mat3_translation(stretch, shift))
+                            .unwrap(),
+                    ),
+                    2 => Box::new(Arc::new(light)),
+                    3 => Box::new(vec![light, other()]),
+                    4 => Box::new(Mixture::new(vec![light, other()], &[3.0, 1.0]).unwrap()),
+                    5 => Box::new(
+                        LightTree::new(
+                            vec![light, other()],
+                            &[2.0, 1.0],
+                            &[Emission::Everywhere, Emission::OneSide(DVec3::NEG_Y)],
+                        )
+                        .unwrap(),
+                    ),
+                    _ => Box::new(light),
+                };
+                if let (true, Some(mask)) = (with_masks, mask) {
+                    light = Box::new(Masked::new(light, mask));
+                }
+            }
+            light
+        };
+        let (masked, plain) = (build(true), build(false));
+        for _ in 0..8 {
+            let point = 3.0 * (rng.vec3() - 0.5);
+            let at = if rng.next_u64().is_multiple_of(2) {
+                ShadingContext::at(point)
+            } else {
+                ShadingContext::on_surface(point, rng.direction())
+            };
+            let u = DVec2::new(rng.next_f64(), rng.next_f64());
+            let sample = plain.sample_light(&at, u);
+            assert_eq!(masked.sample_light(&at, u), sample, "{plan:?} {at:?} {u}");
+            for d in [sample.map_or(DVec3::Y, |s| s.direction), rng.direction()] {
+                assert_eq!(
+                    masked.light_pdf(&at, d),
+                    plain.light_pdf(&at, d),
+                    "{plan:?}"
+                );
+            }
+            compared += usize::from(sample.is_some());
+        }
+    }
+    // Most samples reach a light (the test compares surfaces, not only `None`s).
+    assert!(compared > 2000, "{compared}");
+}

@@ -315,12 +315,7 @@ fn world_box(bbox: &Aabb, frame: &impl Frame, translation: DVec3) -> Aabb {
 impl<T: Hittable, F: Frame> Hittable for Transformed<T, F> {
     #[inline]
     fn hit(&self, ray: &Ray, ray_t: Interval) -> Option<HitRecord> {
-        if !ordinary(ray.direction) {
-            return self.hit_rescaled(ray, ray_t);
-        }
-        let mut hit = self.hit_to_world(self.object.hit(&self.ray_to_object(ray), ray_t)?);
-        hit.t = instance::settle(&self.bbox, ray, ray_t, hit.t)?;
-        hit.point.is_finite().then_some(hit)
+        self.hit_by(ray, ray_t, T::hit)
     }
 
     /// The box of the object's box moved, grown by the rounding of moving it;
@@ -376,15 +371,37 @@ impl<T: Hittable, F: Frame> Hittable for Transformed<T, F> {
 }
 
 impl<T: Hittable, F: Frame> Transformed<T, F> {
-    /// [`Hittable::hit`] for a direction of extreme length: along the same ray with the
-    /// direction scaled (exactly) to an ordinary one before it is turned, which would
+    /// [`Hittable::hit`], with the object asked by `hit_object` (its `hit`, or its
+    /// [`light_hit`](PdfHittable::light_hit)).
+    #[inline]
+    fn hit_by(
+        &self,
+        ray: &Ray,
+        ray_t: Interval,
+        hit_object: impl Fn(&T, &Ray, Interval) -> Option<HitRecord>,
+    ) -> Option<HitRecord> {
+        if !ordinary(ray.direction) {
+            return self.hit_rescaled(ray, ray_t, hit_object);
+        }
+        let mut hit = self.hit_to_world(hit_object(&self.object, &self.ray_to_object(ray), ray_t)?);
+        hit.t = instance::settle(&self.bbox, ray, ray_t, hit.t)?;
+        hit.point.is_finite().then_some(hit)
+    }
+
+    /// [`Transformed::hit_by`] for a direction of extreme length: along the same ray with
+    /// the direction scaled (exactly) to an ordinary one before it is turned, which would
     /// otherwise round its components into the subnormals or past `f64::MAX`; `None` for a
     /// ray that cannot be traced.
     #[cold]
     #[inline(never)]
-    fn hit_rescaled(&self, ray: &Ray, ray_t: Interval) -> Option<HitRecord> {
+    fn hit_rescaled(
+        &self,
+        ray: &Ray,
+        ray_t: Interval,
+        hit_object: impl Fn(&T, &Ray, Interval) -> Option<HitRecord>,
+    ) -> Option<HitRecord> {
         let (scaled, scale) = ray.rescaled()?;
-        let mut hit = self.hit(&scaled, ray_t.scaled(1.0 / scale))?;
+        let mut hit = self.hit_by(&scaled, ray_t.scaled(1.0 / scale), hit_object)?;
         hit.t = Ray::t_from_rescaled(hit.t, scale, Interval::UNIVERSE)?;
         hit.t = instance::settle(&self.bbox, ray, ray_t, hit.t)?;
         Some(hit)
@@ -420,5 +437,10 @@ impl<T: PdfHittable, F: Frame> PdfHittable for Transformed<T, F> {
             },
             |d| self.pdf_value(origin, d) > 0.0,
         )
+    }
+
+    #[inline]
+    fn light_hit(&self, ray: &Ray, ray_t: Interval) -> Option<HitRecord> {
+        self.hit_by(ray, ray_t, T::light_hit)
     }
 }

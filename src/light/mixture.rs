@@ -177,4 +177,9 @@ impl<T: PdfHittable> PdfHittable for Mixture<T> {
         let rest = ((x - below) / self.probabilities[index]).clamp(0.0, 1.0);
         light.sample_direction(origin, DVec2::new(rest, u.y))
     }
+
+    #[inline]
+    fn light_hit(&self, ray: &Ray, ray_t: Interval) -> Option<HitRecord> {
+        self.lights.light_hit(ray, ray_t)
+    }
 }

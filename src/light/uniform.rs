@@ -5,7 +5,7 @@ use alloc::vec::Vec;
 
 use glam::{DVec2, DVec3};
 
-use crate::PdfHittable;
+use crate::{HitRecord, Interval, PdfHittable, Ray};
 
 /// A uniform mixture of lights: `sample_direction` picks one with probability `1 / n` (by
 /// `u.x`, whose remaining digits are reused for the light's own sample, so one point of
@@ -34,6 +34,21 @@ impl<T: PdfHittable> PdfHittable for [T] {
         let rest = DVec2::new((scaled - index as f64).clamp(0.0, 1.0), u.y);
         self[index].sample_direction(origin, rest)
     }
+
+    /// The nearest of the lights' [`light_hit`](PdfHittable::light_hit)s (of hits at the
+    /// same `t`, the first light's, as `hit` keeps them).
+    fn light_hit(&self, ray: &Ray, ray_t: Interval) -> Option<HitRecord> {
+        let mut closest: Option<HitRecord> = None;
+        for light in self {
+            let max = closest.map_or(ray_t.max, |h| h.t);
+            if let Some(h) = light.light_hit(ray, Interval::new(ray_t.min, max))
+                && closest.is_none_or(|c| h.t < c.t)
+            {
+                closest = Some(h);
+            }
+        }
+        closest
+    }
 }
 
 impl<T: PdfHittable> PdfHittable for Vec<T> {
@@ -44,5 +59,9 @@ impl<T: PdfHittable> PdfHittable for Vec<T> {
     #[inline]
     fn sample_direction(&self, origin: DVec3, u: DVec2) -> DVec3 {
         self.as_slice().sample_direction(origin, u)
+    }
+    #[inline]
+    fn light_hit(&self, ray: &Ray, ray_t: Interval) -> Option<HitRecord> {
+        self.as_slice().light_hit(ray, ray_t)
     }
 }

@@ -255,10 +255,17 @@ impl Emitters {
     }
 }
 
-impl<T: PdfHittable> Hittable for LightTree<T> {
-    fn hit(&self, ray: &Ray, ray_t: Interval) -> Option<HitRecord> {
-        // The lights under every node whose box the ray meets, nearest kept (ties to the
-        // earlier light, as the list's loop keeps them).
+impl<T: PdfHittable> LightTree<T> {
+    /// The nearest of the lights' hits by `hit_light` (`hit` or `light_hit`), found under
+    /// every node whose box the ray meets; of hits at the same `t`, the earlier light's,
+    /// as the list's loop keeps them.
+    #[inline]
+    fn nearest(
+        &self,
+        ray: &Ray,
+        ray_t: Interval,
+        hit_light: impl Fn(&T, &Ray, Interval) -> Option<HitRecord>,
+    ) -> Option<HitRecord> {
         let mut best: Option<(usize, HitRecord)> = None;
         let mut stack = [0u32; MAX_DEPTH + 2];
         let mut top = usize::from(!self.nodes.is_empty());
@@ -272,7 +279,7 @@ impl<T: PdfHittable> Hittable for LightTree<T> {
             }
             if node.leaf {
                 let i = node.index as usize;
-                if let Some(hit) = self.lights[i].hit(ray, reach)
+                if let Some(hit) = hit_light(&self.lights[i], ray, reach)
                     && wins(hit.t, reach.max, || (i, best.as_ref().map(|(j, _)| *j)))
                 {
                     best = Some((i, hit));
@@ -284,6 +291,12 @@ impl<T: PdfHittable> Hittable for LightTree<T> {
             top += 2;
         }
         best.map(|(_, hit)| hit)
+    }
+}
+
+impl<T: PdfHittable> Hittable for LightTree<T> {
+    fn hit(&self, ray: &Ray, ray_t: Interval) -> Option<HitRecord> {
+        self.nearest(ray, ray_t, T::hit)
     }
 
     fn bounding_box(&self) -> Aabb {
@@ -322,6 +335,10 @@ impl<T: PdfHittable> PdfHittable for LightTree<T> {
     /// [`sample_light`](PdfHittable::sample_light)).
     fn light_pdf(&self, at: &ShadingContext, direction: DVec3) -> f64 {
         self.density(at.point, at.unit_normal(), direction)
+    }
+
+    fn light_hit(&self, ray: &Ray, ray_t: Interval) -> Option<HitRecord> {
+        self.nearest(ray, ray_t, T::light_hit)
     }
 }
 
