@@ -7,7 +7,7 @@ use glam::{DMat3, DVec3};
 
 use crate::GeometryError;
 use crate::HitRecord;
-use crate::math::{gamma, power_of_two_scale};
+use crate::math::{UNIT_ROUNDOFF, gamma, power_of_two_scale};
 use crate::sample::direction_of;
 
 /// What a [`Transformed`](crate::Transformed) instance's linear part does to the object's
@@ -164,12 +164,15 @@ pub struct Affine {
     matrix: DMat3,
     /// `A`, world to object: `M`'s inverse as computed, which is not exact.
     inverse: DMat3,
-    /// `|M| |A|`, rounded up: what carries the rounding of a point taken back to object
-    /// space into world space.
+    /// `B`, bounding (componentwise) the world image of what taking a point `w` back to
+    /// object space errs by, as `B (|w| + |c|)`: see [`Affine::hit_to_world`].
     back: DMat3,
-    /// `|M|` times the bound on `|(A - M^-1) v|` for `|v|_inf = 1`: the part of taking a
-    /// point back that comes from `A` not being `M^-1` exactly, in world space.
-    inexact: DVec3,
+    /// `B`'s largest row sum: how much the bound grows per unit that a spawned origin
+    /// lies off the hit's point.
+    back_growth: f64,
+    /// Bounds `|M A - I|_2`, the right residual: the relative error of `A^T n` as a normal
+    /// direction, beside the rounding of computing it.
+    residual: f64,
     /// `A` scaled by a power of two to entries near 1, and its determinant's magnitude,
     /// for densities: the scale cancels in `|det A| / |A w|^3`, and neither over- nor
     /// underflows.
@@ -202,31 +205,50 @@ impl Affine {
         if det == 0.0 {
             return Err(singular);
         }
-        let inverse = matrix.inverse();
-        if !inverse.is_finite() || !matrix.determinant().is_normal() {
+        let first = matrix.inverse();
+        if !first.is_finite() || !matrix.determinant().is_normal() {
             return Err(GeometryError::OutOfRange);
         }
+        // One step of refinement, `A + A (I - M A)`: the cofactor inverse's right residual
+        // `M A - I` reached 64 `k` ulps (for a condition number `k`), and it is what the way
+        // back's bound pays; after the step it is about the rounding of computing it. The
+        // first is kept where the step does not help (a map near the limit).
+        let refined = first + first * (DMat3::IDENTITY - matrix * first);
+        let right_sum = |a: DMat3| row_sums((matrix * a - DMat3::IDENTITY).abs()).max_element();
+        let inverse = if refined.is_finite() && right_sum(refined) < right_sum(first) {
+            refined
+        } else {
+            first
+        };
         let (abs, abs_inverse) = (matrix.abs(), inverse.abs());
         // `rho` bounds `|A M - I|_inf`: the computed residual, plus the rounding of
         // computing it (each entry a sum of three products: gamma(3) |A| |M|), plus one
         // more rounding for evaluating the bound.
         let residual = (inverse * matrix - DMat3::IDENTITY).abs();
-        let slack = abs_inverse * abs;
-        let rho = (1.0 + gamma(4)) * row_sums(residual + gamma(3) * slack).max_element();
+        let rho =
+            (1.0 + gamma(4)) * row_sums(residual + gamma(3) * (abs_inverse * abs)).max_element();
         if rho.is_nan() || rho >= 0.5 {
             return Err(singular);
         }
-        // `M^-1 = (A M)^-1 A`, and `|(A M)^-1|_inf <= 1 / (1 - rho)`; so
-        // `|(A - M^-1) v|_inf <= |A M - I|_inf |M^-1|_inf |v|_inf <= k |v|_inf`, doubled
-        // for the rounding of `k` itself.
-        let k = 2.0 * rho / (1.0 - rho) * row_sums(abs_inverse).max_element();
+        // The right residual `|M A - I|`, bounded as `rho` is (the product `|M| |A|`
+        // computed is itself within gamma(3) of the exact one, hence gamma(7) for both);
+        // see `hit_to_world` for what `B` bounds.
+        let slack = abs * abs_inverse;
+        let right =
+            (1.0 + gamma(2)) * ((matrix * inverse - DMat3::IDENTITY).abs() + gamma(7) * slack);
+        let back = (1.0 + gamma(4)) * (right + UNIT_ROUNDOFF * DMat3::IDENTITY + gamma(3) * slack);
         let scale = power_of_two_scale(abs_inverse.to_cols_array().into_iter().fold(0.0, f64::max));
         let unit_inverse = inverse * scale;
         Ok(Self {
             matrix,
             inverse,
-            back: (1.0 + gamma(4)) * (abs * abs_inverse),
-            inexact: k * row_sums(abs),
+            back,
+            back_growth: (1.0 + gamma(3)) * row_sums(back).max_element(),
+            // `|R|_2 <= sqrt(|R|_1 |R|_inf)`, the largest of the row and column sums.
+            residual: (1.0 + gamma(3))
+                * row_sums(right)
+                    .max_element()
+                    .max(row_sums(right.transpose()).max_element()),
             unit_inverse,
             unit_det: unit_inverse.determinant().abs(),
         })
@@ -261,29 +283,57 @@ impl Frame for Affine {
     }
 
     /// The point's error bound, as [`Rigid`]'s: the object's bound carried, `(1 + gamma(4))
-    /// |M| e`, and the rounding of `M p + c`, `gamma(5) (|M| |p| + |c|)`. The way back
-    /// differs: a spawned ray's origin `w` goes to `A (w - c)`, rounded by
-    /// `gamma(4) |A| (|w| + |c|)` and off by `(A - M^-1) (w - c)` besides (`A` is not the
-    /// exact inverse); both are object-space errors, `|M|` times them in world space.
+    /// |M| e`, and the rounding of `P = M p + c`, `gamma(5) (|M| |p| + |c|)`: together `F`.
+    /// The way back is what differs, and it is bounded in world space through the right
+    /// residual `M A - I`, which makes it `k` ulps of the point for a map of condition `k`
+    /// (bounded through `|M| |A - M^-1|`, it was `k^2`).
     ///
-    /// That a world-space bound is enough on the object's side too: the hit point lies
-    /// within the box `E` of the world surface, so the spawned origin, offset by
-    /// `|N| . E` along the normal `N`, lies beyond the surface's tangent plane; the map to
-    /// object space keeps it beyond the object's (an affine map keeps a plane's sides),
-    /// and taking it there moves it by an error whose world image `|M|` bounds.
+    /// **The way back.** A ray spawned from the hit starts at `w`, off `P` along the world
+    /// normal `n` by `|n| . E` (`E` this bound), and the object sees it from
+    /// `o' = fl(A fl(w - c))`. Against the exact preimage `o = M^-1 (w - c)`, with
+    /// `x = fl(w - c)`: `M (o' - o) = (M A - I) x + (x - (w - c)) + M r`, where
+    /// `|r| <= gamma(3) |A| |x|` is the product's rounding. So the world image of the
+    /// object-space error is at most `(|M A - I| + u I + gamma(3) |M| |A|) |x|`, `B (|w| +
+    /// |c|)` with `B` as built (the residual computed, plus `gamma(7) |M| |A|` for its own
+    /// rounding and that of `|M| |A|`). `|w|` is `|P|` plus the offset, at most
+    /// `|n|_1 |E|_inf`: that part, at most `1.8 b |E|_inf` (`b` the largest row sum of
+    /// `B`), is paid with the rest below.
+    ///
+    /// **The object's side.** The object's record `(p, e, n_o)` is one from which a ray
+    /// that starts beyond `p` by `|n_o| . e` along `n_o` does not find its surface again
+    /// (the contract's clause 5 in object space). Mapped back, `n_o . (o' - p)` is
+    /// `|M^-T n_o|` times the world distance of `w + M (o' - o)` from `P`'s tangent plane
+    /// less `P`'s own rounding, along the exact normal `n* = M^-T n_o / |M^-T n_o|`, and
+    /// `|n_o| . e <= |M^-T n_o| (|n*| . |M| e)`. So it suffices that the world offset,
+    /// measured along `n*`, exceeds `|n*| . Q` with `Q = F + B (|P| + |c|) + 1.8 b |E|_inf`.
+    /// The offset is along the computed normal `n`, not `n*`: with `D >= |n - n*|_1` (see
+    /// [`Affine::normal_error`]), `E = Q + 4 D |Q|_inf` pays for it (for `D <= 1/16`,
+    /// `(|n*| . E - D |E|_inf) (1 - D) >= |n*| . Q`). Both extra parts together are at
+    /// most `(4 b + 5 D) |Q_0|_inf` (for `b, D <= 1/16`), `Q_0` the bound without them,
+    /// which is what is added; a map or a normal past those limits (a condition number
+    /// past about 2^46) gives `f64::MAX`, a bound that holds but says nothing.
     #[inline]
     fn hit_to_world(&self, hit: HitRecord, translation: DVec3) -> HitRecord {
         let abs = self.matrix.abs();
         let carried = (1.0 + gamma(4)) * (abs * hit.point_error);
         let rounding = gamma(5) * (abs * hit.point.abs() + translation.abs());
         let point = self.matrix * hit.point + translation;
-        let magnitude = point.abs() + translation.abs();
-        let back = gamma(5) * (self.back * magnitude)
-            + (1.0 + gamma(2)) * self.inexact * magnitude.max_element();
+        // `|w| <= (1 + 2u) (|P| + offset) + 2^-900` (spawn_ray's step away), and the
+        // evaluation's own rounding: gamma(6) on the product, `2^-899` for the step.
+        let back = (1.0 + gamma(6)) * (self.back * (point.abs() + translation.abs()))
+            + DVec3::splat(self.back_growth * f64::from_bits((1023 - 899) << 52));
+        let near = carried + rounding + back;
+        let (normal, normal_error) = self.normal_to_world_with_error(hit.normal);
+        let point_error = if self.back_growth <= 1.0 / 16.0 && normal_error <= 1.0 / 16.0 {
+            let grow = 4.0 * self.back_growth + 5.0 * normal_error;
+            (1.0 + gamma(4)) * (near + DVec3::splat(grow * near.max_element()))
+        } else {
+            DVec3::splat(f64::MAX)
+        };
         HitRecord {
             point,
-            point_error: saturated(carried + rounding + back),
-            normal: self.normal_to_world(hit.normal),
+            point_error: saturated(point_error),
+            normal,
             shading_normal: self.normal_to_world(hit.shading_normal),
             ..hit
         }
@@ -324,13 +374,51 @@ impl Affine {
     /// it square to the surface, against the ray, and outward under a mirror too.
     #[inline]
     fn normal_to_world(&self, normal: DVec3) -> DVec3 {
-        // `A^T n`: the columns of `A` dotted with `n`.
+        direction_of(self.turned(normal)).unwrap_or(normal)
+    }
+
+    /// `A^T n`: the columns of `A` dotted with `n`.
+    #[inline]
+    fn turned(&self, normal: DVec3) -> DVec3 {
         let a = &self.inverse;
-        let turned = DVec3::new(
+        DVec3::new(
             a.x_axis.dot(normal),
             a.y_axis.dot(normal),
             a.z_axis.dot(normal),
-        );
-        direction_of(turned).unwrap_or(normal)
+        )
+    }
+
+    /// [`Affine::normal_to_world`], and `D`, a bound on the sum of its components' errors
+    /// against the exact `M^-T n / |M^-T n|` ([`Affine::normal_error`]).
+    #[inline]
+    fn normal_to_world_with_error(&self, normal: DVec3) -> (DVec3, f64) {
+        let turned = self.turned(normal);
+        match direction_of(turned) {
+            Some(unit) => (unit, self.normal_error(normal, turned)),
+            None => (normal, f64::INFINITY),
+        }
+    }
+
+    /// `D` for the normal `n` turned to `t = fl(A^T n)`. Against `t* = M^-T n`: `t - t* =
+    /// (M A - I)^T t* + r`, `|r| <= gamma(3) |A|^T |n|`, so `|t - t*|_2 <= rho_r |t*|_2 +
+    /// gamma(3) |v|_2` (`v = |A|^T |n|`, `rho_r` the right residual's bound); relative to
+    /// `|t*|_2 >= (|t|_2 - gamma(3) |v|_2) / (1 + rho_r)`, that is `eps`. Unit vectors of
+    /// two vectors `eps` apart relatively are `2 eps` apart; normalizing rounds by
+    /// `gamma(4)` more; and `|.|_1 <= sqrt(3) |.|_2` (1.75 covers the rounding of `D`).
+    #[inline]
+    fn normal_error(&self, normal: DVec3, turned: DVec3) -> f64 {
+        let a = self.inverse.abs();
+        let n = normal.abs();
+        let v = crate::math::length(DVec3::new(
+            a.x_axis.dot(n),
+            a.y_axis.dot(n),
+            a.z_axis.dot(n),
+        ));
+        let t = crate::math::length(turned);
+        let rounded = gamma(3) * v;
+        let eps = self.residual + rounded * (1.0 + self.residual) / (t - rounded);
+        let d = 1.75 * (2.0 * eps + gamma(4));
+        // A NaN (where `t` is no larger than its rounding) or negative quotient: unknown.
+        if d >= 0.0 { d } else { f64::INFINITY }
     }
 }

@@ -116,10 +116,15 @@ impl<T: Hittable> Transformed<T, Affine> {
     /// `Arc<TriangleMesh>` at a thousand sizes hold its faces once.
     ///
     /// What the contract's bounds become: a hit's `point_error` is the object's carried by
-    /// `|M|` plus the rounding of the map both ways (a few ulps of the point and the
-    /// translation, times `|M| |M^-1|` for the way back), so a scale that is not a power
-    /// of two adds a few ulps, and a strongly non-uniform one (a condition number `k`)
-    /// about `k` ulps; powers of two and quarter turns add nothing but the sums' rounding.
+    /// `|M|` plus the rounding of the map both ways, at most `16 k` ulps of the point and
+    /// the translation for a map of condition number `k` (the crate docs' clause 1): a
+    /// rotation times scales, even strongly non-uniform ones, adds a few tens of ulps, a
+    /// shear of condition `k` up to `k` times as many. A ray spawned from the hit starts outside
+    /// the surface in the object's own space (the way back is bounded through the map's
+    /// right residual `M M^-1 - I`, and the normal's rounding is paid for). Past a
+    /// condition number of about 2^46 (up to the limit below), where that rounding is no
+    /// longer below 1/16 of the point, a hit's bound is `f64::MAX`: true, and a ray
+    /// spawned from it finds nothing.
     /// Densities over solid angle are the object's times the Jacobian between the spheres
     /// of directions.
     ///
