@@ -173,6 +173,9 @@ pub struct Affine {
     /// Bounds `|M A - I|_2`, the right residual: the relative error of `A^T n` as a normal
     /// direction, beside the rounding of computing it.
     residual: f64,
+    /// `D` for every normal at once (see [`normal_error`]), or more than 1/16 where only
+    /// each normal's own says enough.
+    normal_bound: f64,
     /// `A` scaled by a power of two to entries near 1, and its determinant's magnitude,
     /// for densities: the scale cancels in `|det A| / |A w|^3`, and neither over- nor
     /// underflows.
@@ -239,16 +242,31 @@ impl Affine {
         let back = (1.0 + gamma(4)) * (right + UNIT_ROUNDOFF * DMat3::IDENTITY + gamma(3) * slack);
         let scale = power_of_two_scale(abs_inverse.to_cols_array().into_iter().fold(0.0, f64::max));
         let unit_inverse = inverse * scale;
+        // `|R|_2 <= sqrt(|R|_1 |R|_inf)`, at most the largest of the row and column sums.
+        let two_norm = |m: DMat3| {
+            (1.0 + gamma(3))
+                * row_sums(m)
+                    .max_element()
+                    .max(row_sums(m.transpose()).max_element())
+        };
+        let residual = two_norm(right);
+        // For every normal: `|v|_1 <= |n|_1 |A|_inf` and `|t*|_2 >= |n|_2 / |M|_2 >=
+        // |n|_1 / (sqrt(3) |M|_2)`, so `|v|_1 / |t*|_2 <= a`; and `|t|_2 >= |t*|_2 (1 -
+        // rho_r) - gamma(3) |v|_1`, so `|v|_1 / |t|_2 <= a / (1 - rho_r - gamma(3) a)`.
+        let a = (1.0 + gamma(4)) * 1.733 * row_sums(abs_inverse).max_element() * two_norm(abs);
+        let room = 1.0 - residual - gamma(3) * a;
+        let normal_bound = if room > 0.0 {
+            normal_error(residual, (1.0 + gamma(2)) * a / room)
+        } else {
+            f64::INFINITY
+        };
         Ok(Self {
             matrix,
             inverse,
             back,
             back_growth: (1.0 + gamma(3)) * row_sums(back).max_element(),
-            // `|R|_2 <= sqrt(|R|_1 |R|_inf)`, the largest of the row and column sums.
-            residual: (1.0 + gamma(3))
-                * row_sums(right)
-                    .max_element()
-                    .max(row_sums(right.transpose()).max_element()),
+            residual,
+            normal_bound,
             unit_inverse,
             unit_det: unit_inverse.determinant().abs(),
         })
@@ -307,12 +325,13 @@ impl Frame for Affine {
     /// `|n_o| . e <= |M^-T n_o| (|n*| . |M| e)`. So it suffices that the world offset,
     /// measured along `n*`, exceeds `|n*| . Q` with `Q = F + B (|P| + |c|) + 1.8 b |E|_inf`.
     /// The offset is along the computed normal `n`, not `n*`: with `D >= |n - n*|_1` (see
-    /// [`Affine::normal_error`]), `E = Q + 4 D |Q|_inf` pays for it (for `D <= 1/16`,
+    /// [`normal_error`]: the map's bound for every normal, or this normal's own where that
+    /// says too little), `E = Q + 4 D |Q|_inf` pays for it (for `D <= 1/16`,
     /// `(|n*| . E - D |E|_inf) (1 - D) >= |n*| . Q`). Both extra parts together are at
     /// most `(4 b + 5 D) |Q_0|_inf` (for `b, D <= 1/16`), `Q_0` the bound without them,
     /// which is what is added; a map or a normal past those limits (a condition number
     /// past about 2^46) gives `f64::MAX`, a bound that holds but says nothing.
-    #[inline]
+    #[inline(always)]
     fn hit_to_world(&self, hit: HitRecord, translation: DVec3) -> HitRecord {
         let abs = self.matrix.abs();
         let carried = (1.0 + gamma(4)) * (abs * hit.point_error);
@@ -323,7 +342,11 @@ impl Frame for Affine {
         let back = (1.0 + gamma(6)) * (self.back * (point.abs() + translation.abs()))
             + DVec3::splat(self.back_growth * f64::from_bits((1023 - 899) << 52));
         let near = carried + rounding + back;
-        let (normal, normal_error) = self.normal_to_world_with_error(hit.normal);
+        let (normal, normal_error) = if self.normal_bound <= 1.0 / 16.0 {
+            (self.normal_to_world(hit.normal), self.normal_bound)
+        } else {
+            self.normal_to_world_with_error(hit.normal)
+        };
         let point_error = if self.back_growth <= 1.0 / 16.0 && normal_error <= 1.0 / 16.0 {
             let grow = 4.0 * self.back_growth + 5.0 * normal_error;
             (1.0 + gamma(4)) * (near + DVec3::splat(grow * near.max_element()))
@@ -389,36 +412,33 @@ impl Affine {
     }
 
     /// [`Affine::normal_to_world`], and `D`, a bound on the sum of its components' errors
-    /// against the exact `M^-T n / |M^-T n|` ([`Affine::normal_error`]).
-    #[inline]
+    /// against the exact `M^-T n / |M^-T n|`, for this normal: where the map's own bound
+    /// for every normal says too little (a map whose `A^T` may lose most digits of some
+    /// normal, but seldom does: a scale of 1e-9 to 1e9 along the axes loses none).
+    #[cold]
+    #[inline(never)]
     fn normal_to_world_with_error(&self, normal: DVec3) -> (DVec3, f64) {
-        let turned = self.turned(normal);
-        match direction_of(turned) {
-            Some(unit) => (unit, self.normal_error(normal, turned)),
-            None => (normal, f64::INFINITY),
+        let (unit, length) = crate::math::unit_and_length(self.turned(normal));
+        if length > 0.0 && unit.is_finite() {
+            let (a, n) = (self.inverse.abs(), normal.abs());
+            let v = a.x_axis.dot(n) + a.y_axis.dot(n) + a.z_axis.dot(n);
+            (unit, normal_error(self.residual, v / length))
+        } else {
+            (normal, f64::INFINITY)
         }
     }
+}
 
-    /// `D` for the normal `n` turned to `t = fl(A^T n)`. Against `t* = M^-T n`: `t - t* =
-    /// (M A - I)^T t* + r`, `|r| <= gamma(3) |A|^T |n|`, so `|t - t*|_2 <= rho_r |t*|_2 +
-    /// gamma(3) |v|_2` (`v = |A|^T |n|`, `rho_r` the right residual's bound); relative to
-    /// `|t*|_2 >= (|t|_2 - gamma(3) |v|_2) / (1 + rho_r)`, that is `eps`. Unit vectors of
-    /// two vectors `eps` apart relatively are `2 eps` apart; normalizing rounds by
-    /// `gamma(4)` more; and `|.|_1 <= sqrt(3) |.|_2` (1.75 covers the rounding of `D`).
-    #[inline]
-    fn normal_error(&self, normal: DVec3, turned: DVec3) -> f64 {
-        let a = self.inverse.abs();
-        let n = normal.abs();
-        let v = crate::math::length(DVec3::new(
-            a.x_axis.dot(n),
-            a.y_axis.dot(n),
-            a.z_axis.dot(n),
-        ));
-        let t = crate::math::length(turned);
-        let rounded = gamma(3) * v;
-        let eps = self.residual + rounded * (1.0 + self.residual) / (t - rounded);
-        let d = 1.75 * (2.0 * eps + gamma(4));
-        // A NaN (where `t` is no larger than its rounding) or negative quotient: unknown.
-        if d >= 0.0 { d } else { f64::INFINITY }
-    }
+/// `D` for a normal `n` turned to `t = fl(A^T n)`, given `r >= |v|_1 / |t|_2` (`v = |A|^T
+/// |n|`) and `rho_r >= |M A - I|_2`. Against `t* = M^-T n`: `t - t* = (M A - I)^T t* + e`,
+/// `|e| <= gamma(3) v`, so `|t - t*|_2 <= rho_r |t*|_2 + gamma(3) |v|_1`; relative to
+/// `|t*|_2 >= (|t|_2 - gamma(3) |v|_1) / (1 + rho_r)`, that is `eps = rho_r + gamma(3) r
+/// (1 + rho_r) / (1 - gamma(3) r)`. Unit vectors of two vectors `eps` apart relatively
+/// are `2 eps` apart; normalizing rounds by `gamma(4)` more; and `|.|_1 <= sqrt(3) |.|_2`
+/// (1.75 covers the rounding of `D`). Infinite where `r` is too large to say anything.
+fn normal_error(residual: f64, ratio: f64) -> f64 {
+    let rounded = gamma(3) * ratio;
+    let eps = residual + rounded * (1.0 + residual) / (1.0 - rounded);
+    let d = 1.75 * (2.0 * eps + gamma(4));
+    if d >= 0.0 { d } else { f64::INFINITY }
 }

@@ -378,7 +378,7 @@ impl<T: Hittable, F: Frame> Hittable for Transformed<T, F> {
 impl<T: Hittable, F: Frame> Transformed<T, F> {
     /// [`Hittable::hit`], with the object asked by `hit_object` (its `hit`, or its
     /// [`light_hit`](PdfHittable::light_hit)).
-    #[inline]
+    #[inline(always)]
     fn hit_by(
         &self,
         ray: &Ray,
