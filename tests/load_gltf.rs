@@ -4,6 +4,8 @@
 //! file and what is wrong. The files are written here, not kept in the repository.
 #![cfg(feature = "gltf")]
 
+mod support;
+
 use std::path::{Path, PathBuf};
 
 use hitkit::glam::{DVec2, DVec3};
@@ -44,6 +46,11 @@ fn square_bytes(last_index: u16) -> Vec<u8> {
 /// along x, one stretched 1:3:0.5), both of a cut-out square; and a lamp square turned to
 /// face down at y = 10. `mode` is the primitives' mode (4: triangles).
 fn scene_json(mode: u32) -> String {
+    scene_json_with(mode, "[1, 1, 1]")
+}
+
+/// [`scene_json`] with the lamp's node scaled by `lamp_scale` (a JSON array).
+fn scene_json_with(mode: u32, lamp_scale: &str) -> String {
     format!(
         r#"{{
   "asset": {{"version": "2.0"}},
@@ -71,7 +78,7 @@ fn scene_json(mode: u32) -> String {
     {{"name": "branch", "scale": [2, 2, 2], "translation": [0, 0, -5], "children": [1, 2]}},
     {{"name": "leaf a", "mesh": 0, "translation": [1, 0, 0]}},
     {{"name": "leaf b", "mesh": 0, "scale": [1, 3, 0.5], "translation": [-2, 0, 0]}},
-    {{"name": "lamp", "mesh": 1, "translation": [0, 10, 0], "rotation": [0.7071067811865476, 0, 0, 0.7071067811865476]}}
+    {{"name": "lamp", "mesh": 1, "translation": [0, 10, 0], "rotation": [0.7071067811865476, 0, 0, 0.7071067811865476], "scale": {lamp_scale}}}
   ],
   "scenes": [{{"nodes": [0, 3]}}],
   "scene": 0
@@ -178,5 +185,44 @@ fn bad_files_are_errors_naming_the_file_and_what_is_wrong() {
         }
         _ => panic!("{err:?}"),
     }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// A single-sided lamp under a mirroring node (`scale [-1, 1, 1]`) keeps its front side,
+/// as glTF says: it lights the floor below it as the unmirrored lamp does (the two are
+/// mirror images about `x = 0`, and the point lit lies on that plane), and shows its back
+/// above it. Its faces were turned around by their corners' winding after the mirror:
+/// their backs below, where a renderer's `front_face` check then found no light.
+#[test]
+fn a_mirrored_lamp_keeps_its_front_side() {
+    use hitkit::ShadingContext;
+    let dir = dir("mirror");
+    let mut irradiance = Vec::new();
+    for scale in ["[1, 1, 1]", "[-1, 1, 1]"] {
+        let path = write(&dir, &scene_json_with(4, scale), &square_bytes(3));
+        let lights = load_gltf(&path).unwrap().lights().unwrap().unwrap();
+        let below = ShadingContext::on_surface(DVec3::new(0.0, 0.0, 0.5), DVec3::Y);
+        let above = ShadingContext::on_surface(DVec3::new(0.0, 20.0, 0.5), DVec3::NEG_Y);
+        let mut rng = support::SplitMix::new(49);
+        let mut values = Vec::new();
+        for _ in 0..4000 {
+            let u = DVec2::new(rng.next_f64(), rng.next_f64());
+            let sample = lights
+                .sample_light(&below, u)
+                .expect("the lamp faces the floor");
+            assert!(sample.record.front_face, "{scale}: lit from behind");
+            values.push(sample.direction.y / sample.pdf);
+            // The tree may still pick a lamp that faces away (by power, where none faces
+            // the point), but what it finds is the lamp's back, which emits nothing.
+            if let Some(back) = lights.sample_light(&above, u) {
+                assert!(!back.record.front_face, "{scale}: lit above");
+            }
+        }
+        let n = values.len() as f64;
+        let mean = values.iter().sum::<f64>() / n;
+        let var = values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0);
+        irradiance.push((mean, (var / n).sqrt()));
+    }
+    support::assert_same_mean(irradiance[0], irradiance[1], "mirrored against unmirrored");
     std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -110,8 +110,10 @@ impl GltfScene {
     /// The faces of every instance whose material emits, in world space, as the lights
     /// of a [`LightTree`]: each face of power `PI * luminance * area` (the flux of a
     /// diffuse emitter of that radiance, `luminance` the Rec. 709 weighting of the
-    /// emissive factor; twice that where the material is double-sided), facing the side
-    /// its corners wind counterclockwise around, or both. `None` where nothing emits.
+    /// emissive factor; twice that where the material is double-sided), facing the mesh's
+    /// front side (the one its corners wind counterclockwise around in the mesh's own
+    /// space, under a mirroring node too, as glTF says and [`Transformed`] reports it), or
+    /// both. `None` where nothing emits.
     ///
     /// # Errors
     /// As [`LightTree::new`].
@@ -126,10 +128,14 @@ impl GltfScene {
             if radiance.is_nan() || radiance <= 0.0 {
                 continue;
             }
+            // glTF: a node of negative determinant keeps the mesh's front side, which its
+            // corners then wind around clockwise; swapping two turns them back.
+            let mirrored = instance.transform.matrix3.determinant() < 0.0;
             for face in mesh.mesh.faces() {
-                let corners = face
+                let [a, b, c] = face
                     .corners()
                     .map(|p| instance.transform.transform_point3(p));
+                let corners = if mirrored { [a, c, b] } else { [a, b, c] };
                 emitters.push(
                     corners,
                     radiance,
