@@ -1,6 +1,6 @@
 //! [`Face`]: one triangle of a mesh, borrowed, as a [`Hittable`] of its own.
 
-use glam::DVec3;
+use glam::{DVec2, DVec3};
 
 use super::intersect::Sheared;
 use super::{TriangleMesh, face_box};
@@ -48,6 +48,42 @@ impl Face<'_> {
     #[must_use]
     pub fn corners(&self) -> [DVec3; 3] {
         self.mesh.corners_at(self.position)
+    }
+
+    /// The normals given for the face's corners ([`TriangleMesh::with_normals`]), in the
+    /// order of [`Face::corners`]; `None` for a mesh without them.
+    #[inline]
+    #[must_use]
+    pub fn normals(&self) -> Option<[DVec3; 3]> {
+        let normals = &self.mesh.normals;
+        (!normals.is_empty())
+            .then(|| self.mesh.triangles[self.position].map(|i| normals[i as usize]))
+    }
+
+    /// The texture coordinates given for the face's corners ([`TriangleMesh::with_uvs`]),
+    /// in the order of [`Face::corners`]; `None` for a mesh without them.
+    ///
+    /// ```
+    /// use hitkit::glam::{DVec2, DVec3};
+    /// use hitkit::TriangleMesh;
+    ///
+    /// # fn main() -> Result<(), hitkit::GeometryError> {
+    /// let mesh = TriangleMesh::new(&[DVec3::ZERO, DVec3::X, DVec3::Y], &[[2, 0, 1]])?
+    ///     .with_uvs(&[DVec2::ZERO, DVec2::X, DVec2::Y])?
+    ///     .with_normals(&[DVec3::Z; 3])?;
+    /// let face = mesh.faces().next().unwrap();
+    /// assert_eq!(face.corners(), [DVec3::Y, DVec3::ZERO, DVec3::X]);
+    /// assert_eq!(face.uvs(), Some([DVec2::Y, DVec2::ZERO, DVec2::X]));
+    /// assert_eq!(face.normals(), Some([DVec3::Z; 3]));
+    /// assert_eq!(mesh.uvs().len(), mesh.vertices().len());
+    /// # Ok(())
+    /// # }
+    /// ```
+    #[inline]
+    #[must_use]
+    pub fn uvs(&self) -> Option<[DVec2; 3]> {
+        let uvs = &self.mesh.uvs;
+        (!uvs.is_empty()).then(|| self.mesh.triangles[self.position].map(|i| uvs[i as usize]))
     }
 
     /// The hit and its barycentric coordinates: the weights of the three corners, each at

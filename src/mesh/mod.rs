@@ -190,6 +190,24 @@ impl TriangleMesh {
         &self.vertices
     }
 
+    /// The normals given ([`TriangleMesh::with_normals`]), one for each of
+    /// [`TriangleMesh::vertices`] in its order; empty for a mesh without them.
+    /// [`Face::normals`] gives a face's three.
+    #[inline]
+    #[must_use]
+    pub fn normals(&self) -> &[DVec3] {
+        &self.normals
+    }
+
+    /// The texture coordinates given ([`TriangleMesh::with_uvs`]), one for each of
+    /// [`TriangleMesh::vertices`] in its order; empty for a mesh without them.
+    /// [`Face::uvs`] gives a face's three.
+    #[inline]
+    #[must_use]
+    pub fn uvs(&self) -> &[DVec2] {
+        &self.uvs
+    }
+
     /// The material.
     #[inline]
     #[must_use]
