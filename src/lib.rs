@@ -154,7 +154,7 @@
 //! | `rand09` | no | `RandomDirection09`: the same with a `rand` 0.9 generator |
 //! | `rayon` | no | `Bvh::new_parallel` and `TriangleMesh::new_parallel`: trees built on every core (the same trees); needs `std` |
 //! | `obj` | no | `load::load_obj`: an OBJ file's objects as `TriangleMesh`es with their materials' names (through `tobj`); needs `std` |
-//! | `gltf` | no | `load::load_gltf`: a glTF file's meshes, instances under their composed transforms, materials' alpha modes and emitters as a `LightTree` (through `gltf`); needs `std` |
+//! | `gltf` | no | `load::load_gltf`: a glTF file's meshes (lists, strips and fans of triangles), instances under their composed transforms, materials' alpha modes and emitters as a `LightTree` (through `gltf`); what it leaves out listed; needs `std` |
 //!
 //! One of `std` and `libm` must be enabled.
 //!
@@ -227,7 +227,8 @@ pub use tree::{TreeCost, Visits};
 pub mod load {
     #[cfg(feature = "gltf")]
     pub use crate::features::gltf::{
-        Alpha, GltfInstance, GltfMaterial, GltfMesh, GltfScene, load_gltf,
+        Alpha, GltfInstance, GltfMaterial, GltfMesh, GltfScene, GltfTexture, LeftOut, load_gltf,
+        load_gltf_slice,
     };
     pub use crate::features::load::{LoadError, LoadErrorKind};
     #[cfg(feature = "obj")]

@@ -9,7 +9,7 @@ mod support;
 use std::path::{Path, PathBuf};
 
 use hitkit::glam::{DVec2, DVec3};
-use hitkit::load::{Alpha, LoadErrorKind, load_gltf};
+use hitkit::load::{Alpha, LeftOut, LoadErrorKind, load_gltf, load_gltf_slice};
 use hitkit::{Bvh, GeometryError, Hittable, Interval, PdfHittable, Ray};
 
 fn dir(test: &str) -> PathBuf {
@@ -67,9 +67,11 @@ fn scene_json_with(mode: u32, lamp_scale: &str) -> String {
   ],
   "materials": [
     {{"name": "leaf", "alphaMode": "MASK", "alphaCutoff": 0.25, "doubleSided": true,
-      "pbrMetallicRoughness": {{"baseColorFactor": [0.2, 0.6, 0.1, 1.0]}}}},
-    {{"name": "lamp", "emissiveFactor": [1.0, 1.0, 1.0]}}
+      "pbrMetallicRoughness": {{"baseColorFactor": [0.2, 0.6, 0.1, 1.0], "baseColorTexture": {{"index": 1}}}}}},
+    {{"name": "lamp", "emissiveFactor": [1.0, 1.0, 1.0], "emissiveTexture": {{"index": 0, "texCoord": 1}}}}
   ],
+  "images": [{{"uri": "glow.png"}}, {{"uri": "leaf.png"}}],
+  "textures": [{{"source": 0}}, {{"source": 1}}],
   "meshes": [
     {{"name": "leaf", "primitives": [{{"attributes": {{"POSITION": 0, "TEXCOORD_0": 1}}, "indices": 2, "material": 0, "mode": {mode}}}]}},
     {{"name": "lamp", "primitives": [{{"attributes": {{"POSITION": 0}}, "indices": 2, "material": 1, "mode": {mode}}}]}}
@@ -107,6 +109,12 @@ fn meshes_nodes_and_materials_come_as_the_file_gives_them() {
     assert_eq!(leaf.alpha, Alpha::Mask { cutoff: 0.25 });
     assert!(leaf.double_sided && leaf.emissive == DVec3::ZERO);
     assert_eq!((lamp.alpha, lamp.emissive), (Alpha::Opaque, DVec3::ONE));
+    // Textures by the file's indices (the images are not read).
+    let texture =
+        |t: Option<hitkit::load::GltfTexture>| t.map(|t| (t.texture, t.image, t.tex_coord));
+    assert_eq!(texture(leaf.base_color_texture), Some((1, 1, 0)));
+    assert_eq!(texture(lamp.emissive_texture), Some((0, 0, 1)));
+    assert_eq!((leaf.emissive_texture, leaf.normal_texture), (None, None));
     let nodes: Vec<_> = scene
         .instances
         .iter()
@@ -162,16 +170,15 @@ fn bad_files_are_errors_naming_the_file_and_what_is_wrong() {
     assert!(matches!(err.kind, LoadErrorKind::Parse(_)), "{err:?}");
     assert!(err.to_string().contains("scene.gltf"), "{err}");
 
-    // Its buffer file gone.
+    // Its buffer file gone: the file cannot be read whole (it was a parse error).
     std::fs::write(&path, scene_json(4)).unwrap();
     let err = load_gltf(&path).unwrap_err();
-    assert!(matches!(err.kind, LoadErrorKind::Parse(_)), "{err:?}");
+    assert!(matches!(err.kind, LoadErrorKind::Io(_)), "{err:?}");
 
-    // Points, not triangles.
+    // Points only, not triangles: nothing to trace.
     let path = write(&dir, &scene_json(0), &square_bytes(3));
     let err = load_gltf(&path).unwrap_err();
-    assert!(matches!(err.kind, LoadErrorKind::Unsupported(_)), "{err:?}");
-    assert!(err.to_string().contains("leaf#0"), "{err}");
+    assert!(matches!(err.kind, LoadErrorKind::Empty), "{err:?}");
 
     // An index past the four corners.
     let path = write(&dir, &scene_json(4), &square_bytes(9));
@@ -225,4 +232,252 @@ fn a_mirrored_lamp_keeps_its_front_side() {
     }
     support::assert_same_mean(irradiance[0], irradiance[1], "mirrored against unmirrored");
     std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Strips and fans are triangles in another order (their winding kept: every face's front
+/// is toward +z, as the list's); points and lines are left out and listed, and the file
+/// loads. A file with a points primitive was refused whole.
+#[test]
+fn strips_and_fans_are_triangles_and_points_and_lines_are_left_out() {
+    let dir = dir("modes");
+    let mut bytes = square_bytes(3);
+    [0u16, 1, 3, 2, 0, 1, 2, 3]
+        .iter()
+        .for_each(|i| bytes.extend(i.to_le_bytes()));
+    let json = scene_json(4)
+        .replace(r#""byteLength": 92"#, r#""byteLength": 108"#)
+        .replace(
+            r#"{"buffer": 0, "byteOffset": 80, "byteLength": 12}"#,
+            r#"{"buffer": 0, "byteOffset": 80, "byteLength": 12},
+    {"buffer": 0, "byteOffset": 92, "byteLength": 8},
+    {"buffer": 0, "byteOffset": 100, "byteLength": 8}"#,
+        )
+        .replace(
+            r#"{"bufferView": 2, "componentType": 5123, "count": 6, "type": "SCALAR"}"#,
+            r#"{"bufferView": 2, "componentType": 5123, "count": 6, "type": "SCALAR"},
+    {"bufferView": 3, "componentType": 5123, "count": 4, "type": "SCALAR"},
+    {"bufferView": 4, "componentType": 5123, "count": 4, "type": "SCALAR"}"#,
+        )
+        .replace(
+            r#"{"name": "lamp", "primitives": [{"attributes": {"POSITION": 0}, "indices": 2, "material": 1, "mode": 4}]}"#,
+            r#"{"name": "lamp", "primitives": [
+      {"attributes": {"POSITION": 0}, "indices": 3, "material": 1, "mode": 5},
+      {"attributes": {"POSITION": 0}, "indices": 4, "material": 1, "mode": 6},
+      {"attributes": {"POSITION": 0}, "mode": 0},
+      {"attributes": {"POSITION": 0}, "indices": 2, "mode": 1}]}"#,
+        );
+    let path = write(&dir, &json, &bytes);
+    let scene = load_gltf(&path).unwrap();
+    let names: Vec<_> = scene.meshes.iter().map(|m| m.name.as_str()).collect();
+    assert_eq!(names, ["leaf#0", "lamp#0", "lamp#1"]);
+    assert_eq!(
+        scene.left_out,
+        [
+            LeftOut::Primitive {
+                mesh: "lamp#2".into(),
+                mode: "POINTS"
+            },
+            LeftOut::Primitive {
+                mesh: "lamp#3".into(),
+                mode: "LINES"
+            },
+        ]
+    );
+    for mesh in &scene.meshes[1..] {
+        assert_eq!(mesh.mesh.face_count(), 2, "{}", mesh.name);
+        // Both halves of the square, from the front.
+        for x in [0.25, 0.75] {
+            let ray = Ray::new(DVec3::new(x, 1.0 - x + 0.1, 1.0), DVec3::NEG_Z);
+            let hit = mesh.mesh.hit(&ray, Interval::FORWARD).unwrap();
+            assert!(hit.front_face, "{}: {hit:?}", mesh.name);
+        }
+    }
+    // The lamp node holds the strip and the fan; the leaves the list.
+    assert_eq!(scene.instances.len(), 4);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// A node scaled to zero (which files use to hide a part) is left out and named; the
+/// rest of the file, its children included, loads and `transformed` succeeds. It failed
+/// `transformed` with an error naming neither the node nor the file.
+#[test]
+fn a_node_scaled_to_zero_is_left_out_and_named() {
+    let dir = dir("zero");
+    let json = scene_json(4).replace(
+        r#"{"name": "leaf b", "mesh": 0, "scale": [1, 3, 0.5]"#,
+        r#"{"name": "leaf b", "mesh": 0, "scale": [0, 0, 0]"#,
+    );
+    let path = write(&dir, &json, &square_bytes(3));
+    let scene = load_gltf(&path).unwrap();
+    let nodes: Vec<_> = scene.instances.iter().map(|i| i.node.as_str()).collect();
+    assert_eq!(nodes, ["leaf a", "lamp"]);
+    assert!(
+        matches!(&scene.left_out[..], [LeftOut::Node { node, .. }] if node == "leaf b"),
+        "{:?}",
+        scene.left_out
+    );
+    assert_eq!(scene.transformed().unwrap().len(), 2);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// A required extension that changes only textures or shading loads, listed as left out
+/// (a file requiring `KHR_texture_transform` was refused); one that changes geometry and
+/// is not read is refused by name.
+#[test]
+fn required_extensions_that_change_only_shading_load() {
+    let dir = dir("extensions");
+    let with = |names: &str| {
+        scene_json(4).replace(
+            r#""asset": {"version": "2.0"},"#,
+            &format!(
+                r#""asset": {{"version": "2.0"}}, "extensionsUsed": [{names}], "extensionsRequired": [{names}],"#
+            ),
+        )
+    };
+    let path = write(
+        &dir,
+        &with(r#""KHR_texture_transform", "KHR_materials_clearcoat""#),
+        &square_bytes(3),
+    );
+    let scene = load_gltf(&path).unwrap();
+    assert_eq!(
+        scene.left_out,
+        [
+            LeftOut::Extension("KHR_texture_transform".into()),
+            LeftOut::Extension("KHR_materials_clearcoat".into())
+        ]
+    );
+    for geometry in ["KHR_draco_mesh_compression", "EXT_meshopt_compression"] {
+        let path = write(&dir, &with(&format!("\"{geometry}\"")), &square_bytes(3));
+        let err = load_gltf(&path).unwrap_err();
+        assert!(matches!(err.kind, LoadErrorKind::Unsupported(_)), "{err:?}");
+        assert!(err.to_string().contains(geometry), "{err}");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Malformed accessors are errors naming the file, the mesh and the accessor, never a
+/// panic inside the `gltf` crate or a mesh read wrong: an accessor that does not exist
+/// (it panicked), a stride shorter than the element (it panicked), indices of count 0 (it
+/// panicked), indices or positions past their buffer view (they loaded as no indices, or
+/// an empty mesh), indices that are not whole triangles (truncated).
+#[test]
+fn malformed_accessors_are_errors_naming_the_mesh_and_the_accessor() {
+    let dir = dir("malformed");
+    let positions = r#"{"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0]}"#;
+    let indices = r#"{"bufferView": 2, "componentType": 5123, "count": 6, "type": "SCALAR"}"#;
+    let cases: [(&str, String, usize, &str); 6] = [
+        (
+            "no such accessor",
+            scene_json(4).replace(
+                r#""POSITION": 0, "TEXCOORD_0""#,
+                r#""POSITION": 7, "TEXCOORD_0""#,
+            ),
+            7,
+            "no such accessor",
+        ),
+        (
+            "a short stride",
+            scene_json(4).replace(
+                r#"{"buffer": 0, "byteOffset": 0, "byteLength": 48}"#,
+                r#"{"buffer": 0, "byteOffset": 0, "byteLength": 48, "byteStride": 4}"#,
+            ),
+            0,
+            "stride",
+        ),
+        (
+            "no indices",
+            scene_json(4).replace(indices, &indices.replace(r#""count": 6"#, r#""count": 0"#)),
+            2,
+            "no elements",
+        ),
+        (
+            "indices past their view",
+            scene_json(4).replace(
+                indices,
+                &indices.replace(r#""count": 6"#, r#""count": 600"#),
+            ),
+            2,
+            "past its buffer view",
+        ),
+        (
+            "positions past their view",
+            scene_json(4).replace(
+                positions,
+                &positions.replace(r#""count": 4"#, r#""count": 40"#),
+            ),
+            0,
+            "past its buffer view",
+        ),
+        (
+            "indices of no whole triangle",
+            scene_json(4).replace(indices, &indices.replace(r#""count": 6"#, r#""count": 5"#)),
+            2,
+            "not whole triangles",
+        ),
+    ];
+    for (what, json, accessor, says) in cases {
+        let path = write(&dir, &json, &square_bytes(3));
+        let err = load_gltf(&path).unwrap_err();
+        match &err.kind {
+            LoadErrorKind::Malformed {
+                mesh,
+                accessor: named,
+                problem,
+            } => {
+                assert_eq!(
+                    (mesh.as_str(), *named),
+                    ("leaf#0", accessor),
+                    "{what}: {err}"
+                );
+                assert!(problem.contains(says), "{what}: {err}");
+            }
+            _ => panic!("{what}: {err:?}"),
+        }
+        assert!(err.to_string().contains("scene.gltf"), "{what}: {err}");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// A file held in memory: a `.gltf` with its buffer inline loads as from a file; one whose
+/// buffer is in another file is an I/O error.
+#[test]
+fn a_file_in_memory_loads_as_from_disk() {
+    use base64_inline::encode;
+    let inline = scene_json(4).replace(
+        r#""uri": "scene.bin""#,
+        &format!(
+            r#""uri": "data:application/octet-stream;base64,{}""#,
+            encode(&square_bytes(3))
+        ),
+    );
+    let scene = load_gltf_slice(inline.as_bytes()).unwrap();
+    assert_eq!((scene.meshes.len(), scene.instances.len()), (2, 3));
+    let err = load_gltf_slice(scene_json(4).as_bytes()).unwrap_err();
+    assert!(matches!(err.kind, LoadErrorKind::Io(_)), "{err:?}");
+}
+
+/// Standard base64, for inline buffers (the tests add no dependency for it).
+mod base64_inline {
+    pub fn encode(bytes: &[u8]) -> String {
+        const TABLE: &[u8; 64] =
+            b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+        let mut out = String::new();
+        for chunk in bytes.chunks(3) {
+            let b = [
+                chunk[0],
+                *chunk.get(1).unwrap_or(&0),
+                *chunk.get(2).unwrap_or(&0),
+            ];
+            let n = (u32::from(b[0]) << 16) | (u32::from(b[1]) << 8) | u32::from(b[2]);
+            for i in 0..4 {
+                if i <= chunk.len() {
+                    out.push(TABLE[(n >> (18 - 6 * i) & 63) as usize] as char);
+                } else {
+                    out.push('=');
+                }
+            }
+        }
+        out
+    }
 }

@@ -14,6 +14,8 @@ use crate::light::Emitters;
 use crate::{
     Affine, GeometryError, LightTree, MaterialId, Quad, Transformed, Triangle, TriangleMesh,
 };
+use gltf::accessor::{DataType, Dimensions};
+use gltf::mesh::Mode;
 
 /// A glTF file's meshes, instances and materials, as [`load_gltf`] reads them.
 #[derive(Clone, Debug)]
@@ -26,6 +28,34 @@ pub struct GltfScene {
     pub instances: Vec<GltfInstance>,
     /// The materials, in the file's order: a mesh's [`MaterialId`] is its place here.
     pub materials: Vec<GltfMaterial>,
+    /// What the file holds that the scene leaves out, and why (the file loads without it).
+    pub left_out: Vec<LeftOut>,
+}
+
+/// Something a glTF file holds that [`load_gltf`] leaves out of the scene: not a surface,
+/// not placeable, or not the loader's to interpret.
+#[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
+pub enum LeftOut {
+    /// A primitive of points or lines (`mode` as glTF names it): nothing to trace.
+    Primitive {
+        /// The primitive, named as [`GltfMesh::name`] names one.
+        mesh: String,
+        /// Its mode: `POINTS`, `LINES`, `LINE_LOOP` or `LINE_STRIP`.
+        mode: &'static str,
+    },
+    /// A node whose transform places nothing: scaled to zero (which files use to hide a
+    /// part), or past what [`Transformed::affine`] takes. Its primitives are left out;
+    /// its children are not.
+    Node {
+        /// The node's name (or `node N`).
+        node: String,
+        /// Why [`Transformed::affine`] refused its transform.
+        error: GeometryError,
+    },
+    /// An extension the file uses (or requires) that changes only textures, shading or
+    /// lights, which the loader does not interpret: a renderer may read it from the file.
+    Extension(String),
 }
 
 /// One primitive of a glTF mesh.
@@ -69,8 +99,9 @@ pub enum Alpha {
     Blend,
 }
 
-/// A glTF material: what a renderer needs to tell cut-outs and lamps apart; textures and
-/// the rest are in the file, by the same index.
+/// A glTF material: its factors, alpha mode and sidedness, and which textures it uses (by
+/// the file's indices); the rest (metallic-roughness, occlusion, extensions) is in the
+/// file, by the same index.
 #[derive(Clone, Debug, PartialEq)]
 #[non_exhaustive]
 pub struct GltfMaterial {
@@ -84,6 +115,38 @@ pub struct GltfMaterial {
     pub emissive: DVec3,
     /// Whether both sides are seen (and, for a lamp, emit).
     pub double_sided: bool,
+    /// The base colour texture (times [`base_color`](Self::base_color); its alpha is the
+    /// surface's, for [`Alpha::Mask`] and [`Alpha::Blend`]), if any.
+    pub base_color_texture: Option<GltfTexture>,
+    /// The emissive texture (times [`emissive`](Self::emissive)), if any.
+    pub emissive_texture: Option<GltfTexture>,
+    /// The normal map, if any.
+    pub normal_texture: Option<GltfTexture>,
+}
+
+/// A texture a glTF material uses: which of the file's textures and images, and which
+/// texture coordinates it reads. The loader reads no image: a renderer decodes it by its
+/// index in the file (the `gltf` crate's `import` gives the images in that order).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[non_exhaustive]
+pub struct GltfTexture {
+    /// The texture's place in the file's `textures` (its sampler: wrapping, filtering).
+    pub texture: usize,
+    /// Its image's place in the file's `images`.
+    pub image: usize,
+    /// Which `TEXCOORD_n` it reads: the meshes' uvs ([`TriangleMesh::uvs`], the hits'
+    /// `uv`) are `TEXCOORD_0`.
+    pub tex_coord: u32,
+}
+
+impl GltfTexture {
+    fn of(texture: &gltf::Texture, tex_coord: u32) -> Self {
+        Self {
+            texture: texture.index(),
+            image: texture.source().index(),
+            tex_coord,
+        }
+    }
 }
 
 impl GltfScene {
@@ -155,55 +218,156 @@ impl GltfScene {
 /// meshes, instances and materials ([`GltfScene`]). Images are not read: a renderer that
 /// textures its surfaces reads them by the file's indices.
 ///
+/// Triangle strips and fans are read as triangles (their winding kept); primitives of
+/// points or lines, nodes scaled to zero and extensions that change only textures,
+/// shading or lights are left out and listed in [`GltfScene::left_out`].
+///
 /// # Errors
-/// A [`LoadError`] naming the file: it cannot be read, is not glTF or its buffers cannot
-/// be, a primitive is not made of triangles (points, lines and strips are
+/// A [`LoadError`] naming the file: it or a buffer it names cannot be read
+/// ([`LoadErrorKind::Io`]), it is not glTF ([`LoadErrorKind::Parse`]), an accessor a
+/// primitive reads reaches past its buffer, has a stride shorter than its element, a type
+/// a primitive cannot take, or no elements ([`LoadErrorKind::Malformed`], naming the mesh
+/// and the accessor), it requires an extension that changes geometry and is not read
+/// (Draco or meshopt compression, quantized positions, GPU instancing: named in
 /// [`LoadErrorKind::Unsupported`]), it holds no triangles, or a mesh cannot be built.
 pub fn load_gltf(path: impl AsRef<Path>) -> Result<GltfScene, LoadError> {
     let path = path.as_ref();
     let bytes = std::fs::read(path).map_err(|e| LoadError::new(path, LoadErrorKind::Io(e)))?;
-    let parse = |e: gltf::Error| LoadError::new(path, LoadErrorKind::Parse(e.to_string()));
-    let gltf::Gltf { document, blob } = gltf::Gltf::from_slice(&bytes).map_err(parse)?;
-    let buffers = gltf::import_buffers(&document, path.parent(), blob).map_err(parse)?;
+    load(&bytes, path, path.parent())
+}
+
+/// [`load_gltf`] of a file held in memory: a `.glb`, or a `.gltf` whose buffers are inline
+/// (`data:` URIs). Its errors name the file `(memory)`.
+///
+/// # Errors
+/// As [`load_gltf`]; a buffer in another file is [`LoadErrorKind::Io`].
+pub fn load_gltf_slice(bytes: &[u8]) -> Result<GltfScene, LoadError> {
+    load(bytes, Path::new("(memory)"), None)
+}
+
+/// Extensions that change only textures, shading or lights: a file that requires one
+/// still loads, with the extension listed as left out.
+fn shading_only(name: &str) -> bool {
+    [
+        "KHR_materials_",
+        "KHR_texture_",
+        "EXT_texture_",
+        "MSFT_texture_",
+    ]
+    .iter()
+    .any(|prefix| name.starts_with(prefix))
+        || matches!(
+            name,
+            "KHR_lights_punctual" | "KHR_xmp_json_ld" | "EXT_lights_image_based"
+        )
+}
+
+/// Extensions the loader interprets.
+const READ: &[&str] = &["KHR_materials_emissive_strength"];
+
+fn load(bytes: &[u8], path: &Path, base: Option<&Path>) -> Result<GltfScene, LoadError> {
+    let parse = |what: String| LoadError::new(path, LoadErrorKind::Parse(what));
+    let (json, blob) = if bytes.starts_with(b"glTF") {
+        let glb = gltf::Glb::from_slice(bytes).map_err(|e| parse(e.to_string()))?;
+        (
+            glb.json.into_owned(),
+            glb.bin.map(std::borrow::Cow::into_owned),
+        )
+    } else {
+        (bytes.to_vec(), None)
+    };
+    let mut root: gltf::json::Root =
+        gltf::json::deserialize::from_slice(&json).map_err(|e| parse(e.to_string()))?;
+
+    let mut left_out = Vec::new();
+    for name in &root.extensions_required {
+        if !READ.contains(&name.as_str()) && !shading_only(name) {
+            let what = format!("the required extension {name}");
+            return Err(LoadError::new(path, LoadErrorKind::Unsupported(what)));
+        }
+    }
+    for name in &root.extensions_used {
+        if !READ.contains(&name.as_str()) && !left_out.contains(&LeftOut::Extension(name.clone())) {
+            left_out.push(LeftOut::Extension(name.clone()));
+        }
+    }
+    // What is left is read, or changes nothing here: the `gltf` crate need not know it.
+    root.extensions_required.clear();
+    check_references(&root, path)?;
+    let document = gltf::Document::from_json(root).map_err(|e| parse(e.to_string()))?;
+    let buffers = gltf::import_buffers(&document, base, blob).map_err(|e| match e {
+        gltf::Error::Io(e) => LoadError::new(path, LoadErrorKind::Io(e)),
+        gltf::Error::ExternalReferenceInSliceImport => LoadError::new(
+            path,
+            LoadErrorKind::Io(std::io::Error::new(
+                std::io::ErrorKind::NotFound,
+                "a buffer in another file, for a file held in memory",
+            )),
+        ),
+        e => parse(e.to_string()),
+    })?;
 
     let materials = document
         .materials()
         .filter_map(|m| m.index().map(|i| (i, m)))
-        .map(|(i, m)| {
-            let color = m.pbr_metallic_roughness().base_color_factor();
-            let emissive = m.emissive_factor();
-            GltfMaterial {
-                name: m
-                    .name()
-                    .map_or_else(|| format!("material {i}"), ToString::to_string),
-                base_color: color.map(f64::from),
-                alpha: match m.alpha_mode() {
-                    gltf::material::AlphaMode::Opaque => Alpha::Opaque,
-                    gltf::material::AlphaMode::Mask => Alpha::Mask {
-                        cutoff: f64::from(m.alpha_cutoff().unwrap_or(0.5)),
-                    },
-                    gltf::material::AlphaMode::Blend => Alpha::Blend,
-                },
-                emissive: DVec3::from_array(emissive.map(f64::from))
-                    * f64::from(m.emissive_strength().unwrap_or(1.0)),
-                double_sided: m.double_sided(),
-            }
-        })
+        .map(|(i, m)| material(i, &m))
         .collect::<Vec<_>>();
 
-    // Every primitive once; `first[m]` is where mesh `m`'s primitives start.
-    let (mut meshes, mut first) = (Vec::new(), Vec::new());
+    // Every primitive of triangles once; `placed[m][p]` is where mesh `m`'s primitive `p`
+    // is in `meshes`, if it is there.
+    let (mut meshes, mut placed) = (Vec::new(), Vec::new());
     for mesh in document.meshes() {
-        first.push(meshes.len());
         let mesh_name = mesh
             .name()
             .map_or_else(|| format!("mesh {}", mesh.index()), ToString::to_string);
+        let mut places = Vec::new();
         for primitive in mesh.primitives() {
             let name = format!("{mesh_name}#{}", primitive.index());
-            if primitive.mode() != gltf::mesh::Mode::Triangles {
-                let what = format!("primitive \"{name}\" of mode {:?}", primitive.mode());
-                return Err(LoadError::new(path, LoadErrorKind::Unsupported(what)));
+            let mode = primitive.mode();
+            if let Some(lines) = not_a_surface(mode) {
+                left_out.push(LeftOut::Primitive {
+                    mesh: name,
+                    mode: lines,
+                });
+                places.push(None);
+                continue;
             }
+            let malformed = |accessor: &gltf::Accessor, problem: String| {
+                LoadError::new(
+                    path,
+                    LoadErrorKind::Malformed {
+                        mesh: name.clone(),
+                        accessor: accessor.index(),
+                        problem,
+                    },
+                )
+            };
+            let check = |accessor: Option<gltf::Accessor>, allowed: &[(Dimensions, DataType)]| {
+                accessor.map_or(Ok(()), |a| {
+                    check_accessor(&a, allowed, &buffers).map_err(|problem| malformed(&a, problem))
+                })
+            };
+            let position = primitive.get(&gltf::Semantic::Positions);
+            check(position.clone(), &[(Dimensions::Vec3, DataType::F32)])?;
+            check(
+                primitive.get(&gltf::Semantic::Normals),
+                &[(Dimensions::Vec3, DataType::F32)],
+            )?;
+            check(
+                primitive.get(&gltf::Semantic::TexCoords(0)),
+                &[
+                    (Dimensions::Vec2, DataType::F32),
+                    (Dimensions::Vec2, DataType::U8),
+                    (Dimensions::Vec2, DataType::U16),
+                ],
+            )?;
+            let index_types = [
+                (Dimensions::Scalar, DataType::U8),
+                (Dimensions::Scalar, DataType::U16),
+                (Dimensions::Scalar, DataType::U32),
+            ];
+            check(primitive.indices(), &index_types)?;
+
             let reader = primitive.reader(|b| buffers.get(b.index()).map(|d| &d.0[..]));
             let positions: Vec<DVec3> = reader
                 .read_positions()
@@ -225,10 +389,19 @@ pub fn load_gltf(path: impl AsRef<Path>) -> Result<GltfScene, LoadError> {
                 Some(i) => i.into_u32().collect(),
                 None => (0..positions.len() as u32).collect(),
             };
-            let faces: Vec<[u32; 3]> = indices
-                .chunks_exact(3)
-                .map(|f| [f[0], f[1], f[2]])
-                .collect();
+            let faces = triangles(mode, &indices).ok_or_else(|| {
+                let counted = primitive.indices().or(position).expect("checked by gltf");
+                let problem = format!(
+                    "{} indices are not {} triangles",
+                    indices.len(),
+                    if mode == Mode::Triangles {
+                        "whole"
+                    } else {
+                        "any"
+                    }
+                );
+                malformed(&counted, problem)
+            })?;
             let material = primitive.material().index();
             let built = build_mesh(
                 path,
@@ -239,12 +412,14 @@ pub fn load_gltf(path: impl AsRef<Path>) -> Result<GltfScene, LoadError> {
                 &uvs,
                 MaterialId(material.map_or(0, |m| m as u32)),
             )?;
+            places.push(Some(meshes.len()));
             meshes.push(GltfMesh {
                 name,
                 mesh: Arc::new(built),
                 material,
             });
         }
+        placed.push(places);
     }
 
     let mut instances = Vec::new();
@@ -264,7 +439,7 @@ pub fn load_gltf(path: impl AsRef<Path>) -> Result<GltfScene, LoadError> {
                     "node {} is reached twice in the scene's hierarchy",
                     node.index()
                 );
-                return Err(LoadError::new(path, LoadErrorKind::Parse(what)));
+                return Err(parse(what));
             }
             let local =
                 DMat4::from_cols_array_2d(&node.transform().matrix().map(|c| c.map(f64::from)));
@@ -274,12 +449,20 @@ pub fn load_gltf(path: impl AsRef<Path>) -> Result<GltfScene, LoadError> {
                 let name = node
                     .name()
                     .map_or_else(|| format!("node {}", node.index()), ToString::to_string);
-                for primitive in mesh.primitives() {
-                    instances.push(GltfInstance {
+                let places = placed[mesh.index()].iter().flatten();
+                // A transform that places nothing (a zero scale hides a part), or moves
+                // a primitive past f64's range: the node is left out, named, rather than
+                // failing `transformed`.
+                let refused = places
+                    .clone()
+                    .find_map(|&m| Transformed::affine(meshes[m].mesh.clone(), transform).err());
+                match refused {
+                    Some(error) => left_out.push(LeftOut::Node { node: name, error }),
+                    None => instances.extend(places.map(|&m| GltfInstance {
                         node: name.clone(),
-                        mesh: first[mesh.index()] + primitive.index(),
+                        mesh: m,
                         transform,
-                    });
+                    })),
                 }
             }
             let children: Vec<_> = node.children().collect();
@@ -293,5 +476,174 @@ pub fn load_gltf(path: impl AsRef<Path>) -> Result<GltfScene, LoadError> {
         meshes,
         instances,
         materials,
+        left_out,
     })
+}
+
+/// glTF's name for a mode of points or lines; `None` for the triangle modes.
+fn not_a_surface(mode: Mode) -> Option<&'static str> {
+    match mode {
+        Mode::Points => Some("POINTS"),
+        Mode::Lines => Some("LINES"),
+        Mode::LineLoop => Some("LINE_LOOP"),
+        Mode::LineStrip => Some("LINE_STRIP"),
+        Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan => None,
+    }
+}
+
+/// The triangles of `indices` in `mode` (one of the triangle modes), each wound as glTF
+/// says (a strip's every other triangle turned back); `None` where the indices are not
+/// whole triangles (a list of triangles whose length is not a multiple of 3, or a strip
+/// or a fan of fewer than 3).
+fn triangles(mode: Mode, indices: &[u32]) -> Option<Vec<[u32; 3]>> {
+    let n = indices.len();
+    match mode {
+        Mode::TriangleStrip if n >= 3 => Some(
+            (0..n - 2)
+                .map(|i| {
+                    let (a, b, c) = (indices[i], indices[i + 1], indices[i + 2]);
+                    if i.is_multiple_of(2) {
+                        [a, b, c]
+                    } else {
+                        [b, a, c]
+                    }
+                })
+                .collect(),
+        ),
+        Mode::TriangleFan if n >= 3 => Some(
+            (1..n - 1)
+                .map(|i| [indices[i], indices[i + 1], indices[0]])
+                .collect(),
+        ),
+        Mode::Triangles if n.is_multiple_of(3) => Some(
+            indices
+                .chunks_exact(3)
+                .map(|f| [f[0], f[1], f[2]])
+                .collect(),
+        ),
+        _ => None,
+    }
+}
+
+/// glTF's material `m` (number `i`) as hitkit reads it.
+fn material(i: usize, m: &gltf::Material) -> GltfMaterial {
+    let color = m.pbr_metallic_roughness().base_color_factor();
+    let emissive = m.emissive_factor();
+    GltfMaterial {
+        name: m
+            .name()
+            .map_or_else(|| format!("material {i}"), ToString::to_string),
+        base_color: color.map(f64::from),
+        alpha: match m.alpha_mode() {
+            gltf::material::AlphaMode::Opaque => Alpha::Opaque,
+            gltf::material::AlphaMode::Mask => Alpha::Mask {
+                cutoff: f64::from(m.alpha_cutoff().unwrap_or(0.5)),
+            },
+            gltf::material::AlphaMode::Blend => Alpha::Blend,
+        },
+        emissive: DVec3::from_array(emissive.map(f64::from))
+            * f64::from(m.emissive_strength().unwrap_or(1.0)),
+        double_sided: m.double_sided(),
+        base_color_texture: m
+            .pbr_metallic_roughness()
+            .base_color_texture()
+            .map(|t| GltfTexture::of(&t.texture(), t.tex_coord())),
+        emissive_texture: m
+            .emissive_texture()
+            .map(|t| GltfTexture::of(&t.texture(), t.tex_coord())),
+        normal_texture: m
+            .normal_texture()
+            .map(|t| GltfTexture::of(&t.texture(), t.tex_coord())),
+    }
+}
+
+/// The references the `gltf` crate's own checks follow before checking them: every
+/// primitive's attributes and indices name an accessor of the file. (Its check of a
+/// `POSITION` accessor's bounds indexes the accessors with the primitive's number.)
+fn check_references(root: &gltf::json::Root, path: &Path) -> Result<(), LoadError> {
+    for (m, mesh) in root.meshes.iter().enumerate() {
+        for (p, primitive) in mesh.primitives.iter().enumerate() {
+            let named = primitive
+                .attributes
+                .values()
+                .chain(primitive.indices.as_ref());
+            for accessor in named {
+                if accessor.value() >= root.accessors.len() {
+                    let mesh = mesh.name.clone().unwrap_or_else(|| format!("mesh {m}"));
+                    return Err(LoadError::new(
+                        path,
+                        LoadErrorKind::Malformed {
+                            mesh: format!("{mesh}#{p}"),
+                            accessor: accessor.value(),
+                            problem: format!(
+                                "no such accessor (the file has {})",
+                                root.accessors.len()
+                            ),
+                        },
+                    ));
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Whether `accessor` can be read as one of `allowed` (its element's dimensions and
+/// component type) from `buffers` without reaching past its buffer view or the buffer,
+/// which the `gltf` crate's reader does not check (it panics, or reads nothing); the
+/// problem where it cannot.
+fn check_accessor(
+    accessor: &gltf::Accessor,
+    allowed: &[(Dimensions, DataType)],
+    buffers: &[gltf::buffer::Data],
+) -> Result<(), String> {
+    let kind = (accessor.dimensions(), accessor.data_type());
+    if !allowed.contains(&kind) {
+        return Err(format!(
+            "elements of {:?} {:?} are not what it holds here",
+            kind.0, kind.1
+        ));
+    }
+    if accessor.sparse().is_some() {
+        return Err("sparse storage is not read".into());
+    }
+    let Some(view) = accessor.view() else {
+        return Err("it has no buffer view (all zeros) and is not read".into());
+    };
+    let count = accessor.count();
+    if count == 0 {
+        return Err("it has no elements (glTF asks at least one)".into());
+    }
+    let element = accessor.size();
+    let stride = view.stride().unwrap_or(element);
+    if stride < element {
+        return Err(format!(
+            "its stride, {stride} bytes, is shorter than its element, {element}"
+        ));
+    }
+    let reach = (count - 1)
+        .checked_mul(stride)
+        .and_then(|r| r.checked_add(element))
+        .and_then(|r| r.checked_add(accessor.offset()));
+    if reach.is_none_or(|r| r > view.length()) {
+        return Err(format!(
+            "{count} elements from byte {} reach past its buffer view's {} bytes",
+            accessor.offset(),
+            view.length()
+        ));
+    }
+    let data = buffers.get(view.buffer().index()).map_or(0, |d| d.0.len());
+    if view
+        .offset()
+        .checked_add(view.length())
+        .is_none_or(|end| end > data)
+    {
+        return Err(format!(
+            "its buffer view (bytes {} to {}) reaches past buffer {}'s {data} bytes",
+            view.offset(),
+            view.offset().saturating_add(view.length()),
+            view.buffer().index()
+        ));
+    }
+    Ok(())
 }

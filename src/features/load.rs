@@ -34,6 +34,17 @@ pub enum LoadErrorKind {
     },
     /// Something the format allows that the loader does not read (named).
     Unsupported(String),
+    /// An accessor a glTF primitive reads cannot be read as it says (past its buffer, a
+    /// stride shorter than its element, no elements, a type the attribute cannot take),
+    /// or names no accessor; or its indices are not whole triangles.
+    Malformed {
+        /// The primitive, as [`GltfMesh::name`](crate::load::GltfMesh::name) names one.
+        mesh: String,
+        /// The accessor's number in the file.
+        accessor: usize,
+        /// What is wrong.
+        problem: String,
+    },
     /// It holds no triangle.
     Empty,
 }
@@ -48,6 +59,11 @@ impl fmt::Display for LoadError {
                 write!(f, "{file}: mesh \"{mesh}\" cannot be built: {error}")
             }
             LoadErrorKind::Unsupported(what) => write!(f, "{file}: {what} is not supported"),
+            LoadErrorKind::Malformed {
+                mesh,
+                accessor,
+                problem,
+            } => write!(f, "{file}: mesh \"{mesh}\", accessor {accessor}: {problem}"),
             LoadErrorKind::Empty => write!(f, "{file} holds no triangles"),
         }
     }
