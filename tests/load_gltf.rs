@@ -481,3 +481,67 @@ mod base64_inline {
         out
     }
 }
+
+/// `EXT_mesh_gpu_instancing`: a node's instances (translations, rotations, scales, after
+/// the node's own transform) are instances of the scene; one scaled to zero is left out
+/// and named. They were dropped: the file loaded as the node's one mesh.
+#[test]
+fn gpu_instances_are_instances() {
+    let dir = dir("instancing");
+    let mut bytes = square_bytes(3);
+    let translations: [[f32; 3]; 3] = [[0.0, 0.0, 0.0], [3.0, 0.0, 0.0], [6.0, 0.0, 0.0]];
+    // A quarter turn about z for the second; the third scaled to zero.
+    let half = std::f32::consts::FRAC_1_SQRT_2;
+    let rotations: [[f32; 4]; 3] = [
+        [0.0, 0.0, 0.0, 1.0],
+        [0.0, 0.0, half, half],
+        [0.0, 0.0, 0.0, 1.0],
+    ];
+    let scales: [[f32; 3]; 3] = [[1.0, 1.0, 1.0], [2.0, 2.0, 2.0], [0.0, 0.0, 0.0]];
+    translations
+        .iter()
+        .flatten()
+        .chain(rotations.iter().flatten())
+        .chain(scales.iter().flatten())
+        .for_each(|x| bytes.extend(x.to_le_bytes()));
+    let json = scene_json(4)
+        .replace(r#""asset": {"version": "2.0"},"#, r#""asset": {"version": "2.0"}, "extensionsUsed": ["EXT_mesh_gpu_instancing"],"#)
+        .replace(r#""byteLength": 92"#, r#""byteLength": 212"#)
+        .replace(
+            r#"{"buffer": 0, "byteOffset": 80, "byteLength": 12}"#,
+            r#"{"buffer": 0, "byteOffset": 80, "byteLength": 12},
+    {"buffer": 0, "byteOffset": 92, "byteLength": 36},
+    {"buffer": 0, "byteOffset": 128, "byteLength": 48},
+    {"buffer": 0, "byteOffset": 176, "byteLength": 36}"#,
+        )
+        .replace(
+            r#"{"bufferView": 2, "componentType": 5123, "count": 6, "type": "SCALAR"}"#,
+            r#"{"bufferView": 2, "componentType": 5123, "count": 6, "type": "SCALAR"},
+    {"bufferView": 3, "componentType": 5126, "count": 3, "type": "VEC3"},
+    {"bufferView": 4, "componentType": 5126, "count": 3, "type": "VEC4"},
+    {"bufferView": 5, "componentType": 5126, "count": 3, "type": "VEC3"}"#,
+        )
+        .replace(
+            r#"{"name": "leaf a", "mesh": 0, "translation": [1, 0, 0]}"#,
+            r#"{"name": "leaf a", "mesh": 0, "translation": [1, 0, 0], "extensions": {"EXT_mesh_gpu_instancing": {"attributes": {"TRANSLATION": 3, "ROTATION": 4, "SCALE": 5}}}}"#,
+        );
+    let path = write(&dir, &json, &bytes);
+    let scene = load_gltf(&path).unwrap();
+    let nodes: Vec<_> = scene.instances.iter().map(|i| i.node.as_str()).collect();
+    assert_eq!(nodes, ["leaf a#0", "leaf a#1", "leaf b", "lamp"]);
+    assert!(
+        matches!(&scene.left_out[..], [LeftOut::Node { node, .. }] if node == "leaf a#2"),
+        "{:?}",
+        scene.left_out
+    );
+    // Under the branch (scale 2, moved to z = -5) and the node's own move along x: the
+    // second instance's corner (1, 0, 0) is turned to (0, 2, 0), then moved by 3 + 1.
+    let second = scene.instances[1].transform;
+    let corner = second.transform_point3(DVec3::X);
+    assert!(
+        (corner - DVec3::new(8.0, 4.0, -5.0)).length() < 1e-6,
+        "{corner}"
+    );
+    assert_eq!(scene.transformed().unwrap().len(), 4);
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -76,11 +76,13 @@ pub struct GltfMesh {
 #[derive(Clone, Debug)]
 #[non_exhaustive]
 pub struct GltfInstance {
-    /// The node's name (or `node N`).
+    /// The node's name (or `node N`); for a node instanced by `EXT_mesh_gpu_instancing`,
+    /// with the instance's number after `#`.
     pub node: String,
     /// The primitive's place in [`GltfScene::meshes`].
     pub mesh: usize,
-    /// The node's transform, composed with its parents', object to world.
+    /// The node's transform, composed with its parents' (and after the instance's own,
+    /// for `EXT_mesh_gpu_instancing`), object to world.
     pub transform: DAffine3,
 }
 
@@ -218,7 +220,8 @@ impl GltfScene {
 /// meshes, instances and materials ([`GltfScene`]). Images are not read: a renderer that
 /// textures its surfaces reads them by the file's indices.
 ///
-/// Triangle strips and fans are read as triangles (their winding kept); primitives of
+/// Nodes instanced by `EXT_mesh_gpu_instancing` give one instance for each of their
+/// instances. Triangle strips and fans are read as triangles (their winding kept); primitives of
 /// points or lines, nodes scaled to zero and extensions that change only textures,
 /// shading or lights are left out and listed in [`GltfScene::left_out`].
 ///
@@ -228,7 +231,7 @@ impl GltfScene {
 /// primitive reads reaches past its buffer, has a stride shorter than its element, a type
 /// a primitive cannot take, or no elements ([`LoadErrorKind::Malformed`], naming the mesh
 /// and the accessor), it requires an extension that changes geometry and is not read
-/// (Draco or meshopt compression, quantized positions, GPU instancing: named in
+/// (Draco or meshopt compression, quantized positions: named in
 /// [`LoadErrorKind::Unsupported`]), it holds no triangles, or a mesh cannot be built.
 pub fn load_gltf(path: impl AsRef<Path>) -> Result<GltfScene, LoadError> {
     let path = path.as_ref();
@@ -263,7 +266,7 @@ fn shading_only(name: &str) -> bool {
 }
 
 /// Extensions the loader interprets.
-const READ: &[&str] = &["KHR_materials_emissive_strength"];
+const READ: &[&str] = &["KHR_materials_emissive_strength", "EXT_mesh_gpu_instancing"];
 
 fn load(bytes: &[u8], path: &Path, base: Option<&Path>) -> Result<GltfScene, LoadError> {
     let parse = |what: String| LoadError::new(path, LoadErrorKind::Parse(what));
@@ -445,24 +448,46 @@ fn load(bytes: &[u8], path: &Path, base: Option<&Path>) -> Result<GltfScene, Loa
                 DMat4::from_cols_array_2d(&node.transform().matrix().map(|c| c.map(f64::from)));
             let world = parent * local;
             if let Some(mesh) = node.mesh() {
-                let transform = DAffine3::from_mat4(world);
                 let name = node
                     .name()
                     .map_or_else(|| format!("node {}", node.index()), ToString::to_string);
-                let places = placed[mesh.index()].iter().flatten();
-                // A transform that places nothing (a zero scale hides a part), or moves
-                // a primitive past f64's range: the node is left out, named, rather than
-                // failing `transformed`.
-                let refused = places
-                    .clone()
-                    .find_map(|&m| Transformed::affine(meshes[m].mesh.clone(), transform).err());
-                match refused {
-                    Some(error) => left_out.push(LeftOut::Node { node: name, error }),
-                    None => instances.extend(places.map(|&m| GltfInstance {
-                        node: name.clone(),
-                        mesh: m,
-                        transform,
-                    })),
+                // `EXT_mesh_gpu_instancing`: the node's mesh at each instance's place, under
+                // the node's transform; each instance named by its number after `#`.
+                let locals = match node.extension_value("EXT_mesh_gpu_instancing") {
+                    None => vec![(name.clone(), DMat4::IDENTITY)],
+                    Some(value) => gpu_instances(value, &document, &buffers)
+                        .map_err(|(accessor, problem)| {
+                            LoadError::new(
+                                path,
+                                LoadErrorKind::Malformed {
+                                    mesh: format!("{name} (EXT_mesh_gpu_instancing)"),
+                                    accessor,
+                                    problem,
+                                },
+                            )
+                        })?
+                        .into_iter()
+                        .enumerate()
+                        .map(|(k, local)| (format!("{name}#{k}"), local))
+                        .collect(),
+                };
+                for (name, local) in locals {
+                    let transform = DAffine3::from_mat4(world * local);
+                    let places = placed[mesh.index()].iter().flatten();
+                    // A transform that places nothing (a zero scale hides a part), or moves
+                    // a primitive past f64's range: the node is left out, named, rather
+                    // than failing `transformed`.
+                    let refused = places.clone().find_map(|&m| {
+                        Transformed::affine(meshes[m].mesh.clone(), transform).err()
+                    });
+                    match refused {
+                        Some(error) => left_out.push(LeftOut::Node { node: name, error }),
+                        None => instances.extend(places.map(|&m| GltfInstance {
+                            node: name.clone(),
+                            mesh: m,
+                            transform,
+                        })),
+                    }
                 }
             }
             let children: Vec<_> = node.children().collect();
@@ -478,6 +503,108 @@ fn load(bytes: &[u8], path: &Path, base: Option<&Path>) -> Result<GltfScene, Loa
         materials,
         left_out,
     })
+}
+
+/// The places of a node's `EXT_mesh_gpu_instancing` instances (its `value`): each
+/// `T * R * S` of its `TRANSLATION`, `ROTATION` and `SCALE` (each optional, all of one
+/// count), in the node's space. The accessor and what is wrong where they cannot be read.
+fn gpu_instances(
+    value: &gltf::json::Value,
+    document: &gltf::Document,
+    buffers: &[gltf::buffer::Data],
+) -> Result<Vec<DMat4>, (usize, String)> {
+    use gltf::accessor::Iter;
+    let get = |b: gltf::Buffer| buffers.get(b.index()).map(|d| &d.0[..]);
+    let named = |key: &str| -> Result<Option<gltf::Accessor>, (usize, String)> {
+        let Some(index) = value.get("attributes").and_then(|a| a.get(key)) else {
+            return Ok(None);
+        };
+        let index = index
+            .as_u64()
+            .map_or(usize::MAX, |i| usize::try_from(i).unwrap_or(usize::MAX));
+        document
+            .accessors()
+            .nth(index)
+            .map(Some)
+            .ok_or_else(|| (index, format!("no such accessor for {key}")))
+    };
+    let (translation, rotation, scale) =
+        (named("TRANSLATION")?, named("ROTATION")?, named("SCALE")?);
+    let vec3 = [(Dimensions::Vec3, DataType::F32)];
+    let quaternion = [
+        (Dimensions::Vec4, DataType::F32),
+        (Dimensions::Vec4, DataType::I8),
+        (Dimensions::Vec4, DataType::I16),
+    ];
+    let mut count = None;
+    for (accessor, allowed) in [
+        (&translation, &vec3[..]),
+        (&rotation, &quaternion[..]),
+        (&scale, &vec3[..]),
+    ] {
+        if let Some(a) = accessor {
+            check_accessor(a, allowed, buffers).map_err(|p| (a.index(), p))?;
+            if *count.get_or_insert(a.count()) != a.count() {
+                return Err((
+                    a.index(),
+                    format!(
+                        "{} instances, where another attribute has {}",
+                        a.count(),
+                        count.unwrap_or(0)
+                    ),
+                ));
+            }
+        }
+    }
+    let Some(count) = count else {
+        // No attribute (glTF asks at least one): the node's one place.
+        return Ok(vec![DMat4::IDENTITY]);
+    };
+    let vectors = |a: &Option<gltf::Accessor>, default: DVec3| -> Vec<DVec3> {
+        a.clone()
+            .and_then(|a| Iter::<[f32; 3]>::new(a, get))
+            .map_or_else(
+                || vec![default; count],
+                |it| it.map(|v| DVec3::from_array(v.map(f64::from))).collect(),
+            )
+    };
+    let translations = vectors(&translation, DVec3::ZERO);
+    let scales = vectors(&scale, DVec3::ONE);
+    let rotations: Vec<glam::DQuat> = match rotation {
+        None => vec![glam::DQuat::IDENTITY; count],
+        Some(a) => {
+            use gltf::animation::util::Rotations;
+            let read = match a.data_type() {
+                DataType::I8 => Iter::new(a, get).map(Rotations::I8),
+                DataType::I16 => Iter::new(a, get).map(Rotations::I16),
+                _ => Iter::new(a, get).map(Rotations::F32),
+            };
+            read.map(|r| {
+                r.into_f32()
+                    .map(|q| {
+                        let q = glam::DQuat::from_array(q.map(f64::from));
+                        // A zero quaternion (no rotation at all) stays one, which glam
+                        // turns as the identity.
+                        if q.length_squared() > 0.0 {
+                            q.normalize()
+                        } else {
+                            q
+                        }
+                    })
+                    .collect()
+            })
+            .unwrap_or_default()
+        }
+    };
+    Ok((0..count)
+        .map(|k| {
+            let at = |v: &[DVec3], default| v.get(k).copied().unwrap_or(default);
+            let turn = rotations.get(k).copied().unwrap_or(glam::DQuat::IDENTITY);
+            DMat4::from_translation(at(&translations, DVec3::ZERO))
+                * DMat4::from_quat(turn)
+                * DMat4::from_scale(at(&scales, DVec3::ONE))
+        })
+        .collect())
 }
 
 /// glTF's name for a mode of points or lines; `None` for the triangle modes.

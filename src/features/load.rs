@@ -38,7 +38,8 @@ pub enum LoadErrorKind {
     /// stride shorter than its element, no elements, a type the attribute cannot take),
     /// or names no accessor; or its indices are not whole triangles.
     Malformed {
-        /// The primitive, as [`GltfMesh::name`](crate::load::GltfMesh::name) names one.
+        /// The primitive, as [`GltfMesh::name`](crate::load::GltfMesh::name) names one (or
+        /// the node whose `EXT_mesh_gpu_instancing` reads the accessor).
         mesh: String,
         /// The accessor's number in the file.
         accessor: usize,
