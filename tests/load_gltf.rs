@@ -545,3 +545,34 @@ fn gpu_instances_are_instances() {
     assert_eq!(scene.transformed().unwrap().len(), 4);
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// `lights_with` weighs each emitting face (a textured emitter's texture, read by the
+/// renderer): a face of weight 0 is no light, and each light says which instance and
+/// face it is, for the texture lookup at a sampled point. `lights` reads the factor alone.
+#[test]
+fn emitters_are_weighed_by_what_the_renderer_reads() {
+    let dir = dir("weighed");
+    let path = write(&dir, &scene_json(4), &square_bytes(3));
+    let scene = load_gltf(&path).unwrap();
+    let lamp = scene
+        .instances
+        .iter()
+        .position(|i| i.node == "lamp")
+        .unwrap();
+    let mut asked = Vec::new();
+    let lights = scene
+        .lights_with(|face| {
+            assert_eq!(face.material.emissive_texture.map(|t| t.image), Some(0));
+            asked.push((face.instance, face.face, face.uvs));
+            if face.face == 0 { 0.0 } else { 3.0 }
+        })
+        .unwrap()
+        .unwrap();
+    // Both faces asked (the lamp has no uvs), only the second kept.
+    assert_eq!(asked, [(lamp, 0, None), (lamp, 1, None)]);
+    assert_eq!(lights.tree.lights().len(), 1);
+    assert_eq!(lights.sources, [(lamp, 1)]);
+    assert!(scene.lights_with(|_| 0.0).unwrap().is_none());
+    assert_eq!(scene.lights().unwrap().unwrap().lights().len(), 2);
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -180,11 +180,46 @@ impl GltfScene {
     /// space, under a mirroring node too, as glTF says and [`Transformed`] reports it), or
     /// both. `None` where nothing emits.
     ///
+    /// An emissive texture is not read here: a face emits as if its texture were white,
+    /// by the factor alone, which is right for untextured emitters and too bright (and
+    /// too many lights) for a textured one, whose factor is often `[1, 1, 1]` over a
+    /// texture dark but for a few lamps. [`GltfScene::lights_with`] weighs each face by
+    /// what the renderer's texture gives over it.
+    ///
     /// # Errors
     /// As [`LightTree::new`].
     pub fn lights(&self) -> Result<Option<LightTree<Quad<Triangle>>>, GeometryError> {
+        Ok(self.lights_with(|_| 1.0)?.map(|lights| lights.tree))
+    }
+
+    /// [`GltfScene::lights`], each face's power times `weight` of it (for a textured
+    /// emitter, the mean of the texture's luminance over the face, which the renderer's
+    /// own texture lookup gives from the face's `uvs`): a face of weight 0 (or negative,
+    /// or NaN) is not a light. With the tree, which instance and face each light is, for
+    /// the texture lookup at a sampled point.
+    ///
+    /// ```
+    /// # #[cfg(feature = "gltf")]
+    /// # fn lamps(scene: &hitkit::load::GltfScene) -> Result<(), hitkit::GeometryError> {
+    /// // A texture lookup of the renderer's: the mean luminance over the face's uvs.
+    /// # let mean_luminance = |_: usize, _: [hitkit::glam::DVec2; 3]| 0.5;
+    /// let lights = scene.lights_with(|face| match (face.material.emissive_texture, face.uvs) {
+    ///     (Some(texture), Some(uvs)) => mean_luminance(texture.image, uvs),
+    ///     _ => 1.0,
+    /// })?;
+    /// # Ok(())
+    /// # }
+    /// ```
+    ///
+    /// # Errors
+    /// As [`LightTree::new`].
+    pub fn lights_with(
+        &self,
+        mut weight: impl FnMut(&Emitter) -> f64,
+    ) -> Result<Option<GltfLights>, GeometryError> {
         let mut emitters = Emitters::default();
-        for instance in &self.instances {
+        let mut sources = Vec::new();
+        for (i, instance) in self.instances.iter().enumerate() {
             let mesh = &self.meshes[instance.mesh];
             let Some(material) = mesh.material.map(|m| &self.materials[m]) else {
                 continue;
@@ -197,23 +232,63 @@ impl GltfScene {
             // corners then wind around clockwise; swapping two turns them back.
             let mirrored = instance.transform.matrix3.determinant() < 0.0;
             for face in mesh.mesh.faces() {
+                let emitter = Emitter {
+                    instance: i,
+                    face: face.index(),
+                    material,
+                    uvs: face.uvs(),
+                };
+                let scale = weight(&emitter);
+                if scale.is_nan() || scale <= 0.0 {
+                    continue;
+                }
                 let [a, b, c] = face
                     .corners()
                     .map(|p| instance.transform.transform_point3(p));
                 let corners = if mirrored { [a, c, b] } else { [a, b, c] };
-                emitters.push(
+                if emitters.push(
                     corners,
-                    radiance,
+                    radiance * scale,
                     material.double_sided,
                     mesh.mesh.material(),
-                );
+                ) {
+                    sources.push((i, face.index()));
+                }
             }
         }
         if emitters.is_empty() {
             return Ok(None);
         }
-        emitters.tree().map(Some)
+        Ok(Some(GltfLights {
+            tree: emitters.tree()?,
+            sources,
+        }))
     }
+}
+
+/// An emitting face of a [`GltfScene`], as [`GltfScene::lights_with`] asks its weight.
+#[derive(Clone, Copy, Debug)]
+#[non_exhaustive]
+pub struct Emitter<'a> {
+    /// The instance's place in [`GltfScene::instances`].
+    pub instance: usize,
+    /// The face's number in its mesh (a hit's `primitive`).
+    pub face: u32,
+    /// Its material.
+    pub material: &'a GltfMaterial,
+    /// Its corners' texture coordinates (`TEXCOORD_0`), where the mesh has them.
+    pub uvs: Option<[glam::DVec2; 3]>,
+}
+
+/// A glTF scene's emitters as [`GltfScene::lights_with`] gathers them.
+#[derive(Clone, Debug)]
+#[non_exhaustive]
+pub struct GltfLights {
+    /// The lights.
+    pub tree: LightTree<Quad<Triangle>>,
+    /// For each of `tree.lights()`, in order: the instance (its place in
+    /// [`GltfScene::instances`]) and the face (its number in the instance's mesh) it is.
+    pub sources: Vec<(usize, u32)>,
 }
 
 /// The glTF file (`.gltf` with its buffers beside it or inline, or `.glb`) at `path`, as

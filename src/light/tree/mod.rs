@@ -221,16 +221,17 @@ pub(crate) struct Emitters {
 }
 
 impl Emitters {
-    /// The triangle `[a, b, c]` as a light, unless it is degenerate (of no area).
+    /// The triangle `[a, b, c]` as a light, unless it is degenerate (of no area); whether
+    /// it was taken.
     pub(crate) fn push(
         &mut self,
         [a, b, c]: [DVec3; 3],
         radiance: f64,
         two_sided: bool,
         material: crate::MaterialId,
-    ) {
+    ) -> bool {
         let Ok(quad) = Quad::with_interior(a, b - a, c - a, Triangle) else {
-            return;
+            return false;
         };
         let normal = quad.plane().normal();
         let sides = if two_sided { 2.0 } else { 1.0 };
@@ -241,6 +242,7 @@ impl Emitters {
             Emission::OneSide(normal)
         });
         self.faces.push(quad.with_material(material));
+        true
     }
 
     /// Whether no light was gathered.
