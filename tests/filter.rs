@@ -314,3 +314,69 @@ fn a_tree_filtered_object_by_object_answers_as_the_loop() {
     }
     assert!(cut > 100, "{cut}");
 }
+
+/// `Candidate::front_face` says what the hit reports in `front_face`, so a single-sided
+/// surface culls by it: a closed mesh culled to its fronts is hit from outside as before,
+/// and from inside (every crossing a back face) not at all; through a mirroring instance
+/// too.
+#[test]
+fn a_candidate_knows_the_side_it_crosses() {
+    use hitkit::glam::DAffine3;
+    let mut rng = SplitMix::new(4907);
+    let (vertices, faces) = support::icosphere(2);
+    let mesh = TriangleMesh::new(&vertices, &faces).unwrap();
+    let seen = Mutex::new(Vec::new());
+    let sides = Filtered::new(&mesh, |c: &Candidate| {
+        seen.lock().unwrap().push((c.t, c.front_face()));
+        true
+    });
+    let culled = Filtered::new(&mesh, |c: &Candidate| c.front_face());
+    let mirror = DAffine3::from_scale(DVec3::new(-1.0, 2.0, 1.0));
+    let mirrored_sides = Transformed::affine(&sides, mirror).unwrap();
+    let (mut outside, mut inside) = (0, 0);
+    for _ in 0..2000 {
+        let from_inside = rng.next_f64() < 0.5;
+        let origin = if from_inside {
+            0.5 * rng.direction()
+        } else {
+            3.0 * rng.direction()
+        };
+        let toward = if from_inside {
+            rng.direction()
+        } else {
+            0.8 * rng.direction() - origin
+        };
+        let ray = Ray::new(origin, toward);
+        for (object, ray) in [
+            (&sides as &dyn Hittable, ray),
+            (
+                &mirrored_sides,
+                Ray::new(
+                    mirror.transform_point3(ray.origin),
+                    mirror.transform_vector3(ray.direction),
+                ),
+            ),
+        ] {
+            seen.lock().unwrap().clear();
+            let Some(hit) = object.hit(&ray, Interval::FORWARD) else {
+                continue;
+            };
+            let asked = seen.lock().unwrap().clone();
+            let side = asked
+                .iter()
+                .filter(|(t, _)| *t == hit.t)
+                .map(|&(_, f)| f)
+                .next_back();
+            assert_eq!(side, Some(hit.front_face), "{ray:?}");
+        }
+        let culled_hit = culled.hit(&ray, Interval::FORWARD);
+        if from_inside {
+            assert!(culled_hit.is_none(), "a back face from inside: {ray:?}");
+            inside += 1;
+        } else if let Some(plain) = mesh.hit(&ray, Interval::FORWARD) {
+            assert_eq!(culled_hit.map(|h| h.t), Some(plain.t), "{ray:?}");
+            outside += 1;
+        }
+    }
+    assert!(inside > 500 && outside > 500, "{inside} {outside}");
+}

@@ -51,6 +51,18 @@ impl Candidate<'_> {
     pub fn uv(&self) -> DVec2 {
         self.mesh.uv_at(self.position, self.crossing.barycentric())
     }
+
+    /// Whether the ray crosses the face from its front, the side its corners wind
+    /// counterclockwise around, as the hit would report it in `front_face` (through an
+    /// instance too, a mirroring one included): what a single-sided surface (glTF's
+    /// `doubleSided: false`) culls by.
+    #[inline]
+    #[must_use]
+    pub fn front_face(&self) -> bool {
+        let [p0, p1, p2] = self.mesh.corners_at(self.position);
+        let (normal, _) = crate::math::unit_and_length((p1 - p0).cross(p2 - p0));
+        self.ray.direction.dot(normal) < 0.0
+    }
 }
 
 /// A [`TriangleMesh`] (or an `Arc`, `Box` or `&` of one) whose crossings `filter` may
