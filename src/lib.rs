@@ -227,8 +227,8 @@ pub use tree::{TreeCost, Visits};
 pub mod load {
     #[cfg(feature = "gltf")]
     pub use crate::features::gltf::{
-        Alpha, Emitter, GltfInstance, GltfLights, GltfMaterial, GltfMesh, GltfScene, GltfTexture,
-        LeftOut, load_gltf, load_gltf_slice,
+        Alpha, Emitter, GltfCamera, GltfInstance, GltfLights, GltfMaterial, GltfMesh, GltfScene,
+        GltfTexture, LeftOut, Projection, load_gltf, load_gltf_slice,
     };
     pub use crate::features::load::{LoadError, LoadErrorKind};
     #[cfg(feature = "obj")]

@@ -576,3 +576,44 @@ fn emitters_are_weighed_by_what_the_renderer_reads() {
     assert_eq!(scene.lights().unwrap().unwrap().lights().len(), 2);
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// A file's cameras: where their nodes put them (looking along the node's `-z`), and their
+/// projections.
+#[test]
+fn cameras_come_with_their_place_and_projection() {
+    use hitkit::load::Projection;
+    let dir = dir("cameras");
+    let json = scene_json(4)
+        .replace(
+            r#""scenes": [{"nodes": [0, 3]}],"#,
+            r#""cameras": [{"type": "perspective", "perspective": {"yfov": 0.75, "znear": 0.1, "aspectRatio": 1.5}}],
+  "scenes": [{"nodes": [0, 3, 4]}],"#,
+        )
+        .replace(
+            r#""scale": [1, 1, 1]}"#,
+            r#""scale": [1, 1, 1]},
+    {"name": "eye", "camera": 0, "translation": [0, 1, 5], "rotation": [0, 0.7071067811865476, 0, 0.7071067811865476]}"#,
+        );
+    let path = write(&dir, &json, &square_bytes(3));
+    let scene = load_gltf(&path).unwrap();
+    let [camera] = &scene.cameras[..] else {
+        panic!("{:?}", scene.cameras)
+    };
+    assert_eq!(camera.node, "eye");
+    assert_eq!(camera.position(), DVec3::new(0.0, 1.0, 5.0));
+    // A quarter turn about y takes -z to -x.
+    assert!(
+        (camera.forward() - DVec3::NEG_X).length() < 1e-6,
+        "{}",
+        camera.forward()
+    );
+    assert!((camera.up() - DVec3::Y).length() < 1e-6);
+    assert_eq!(
+        camera.projection,
+        Projection::Perspective {
+            yfov: 0.75,
+            aspect_ratio: Some(1.5)
+        }
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -30,6 +30,61 @@ pub struct GltfScene {
     pub materials: Vec<GltfMaterial>,
     /// What the file holds that the scene leaves out, and why (the file loads without it).
     pub left_out: Vec<LeftOut>,
+    /// The cameras of the scene's nodes, in the order the walk meets them.
+    pub cameras: Vec<GltfCamera>,
+}
+
+/// A camera of a glTF scene: where its node puts it (glTF's cameras look along their
+/// node's `-z`, with `+y` up) and how it projects.
+#[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
+pub struct GltfCamera {
+    /// The node's name (or `node N`).
+    pub node: String,
+    /// The node's transform composed with its parents', camera to world.
+    pub transform: DAffine3,
+    /// How it projects.
+    pub projection: Projection,
+}
+
+impl GltfCamera {
+    /// Where the camera is.
+    #[must_use]
+    pub fn position(&self) -> DVec3 {
+        self.transform.translation
+    }
+
+    /// The unit direction it looks along (its node's `-z`).
+    #[must_use]
+    pub fn forward(&self) -> DVec3 {
+        self.transform.matrix3.z_axis.normalize_or_zero() * -1.0
+    }
+
+    /// The unit direction that is up in its image (its node's `+y`).
+    #[must_use]
+    pub fn up(&self) -> DVec3 {
+        self.transform.matrix3.y_axis.normalize_or_zero()
+    }
+}
+
+/// A glTF camera's projection.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Projection {
+    /// Perspective: the vertical field of view, in radians, and the width over the height
+    /// where the file gives it (else the renderer's image's).
+    Perspective {
+        /// Vertical field of view, radians.
+        yfov: f64,
+        /// Width over height, if the file gives it.
+        aspect_ratio: Option<f64>,
+    },
+    /// Orthographic: half the view's width and height.
+    Orthographic {
+        /// Half the width.
+        xmag: f64,
+        /// Half the height.
+        ymag: f64,
+    },
 }
 
 /// Something a glTF file holds that [`load_gltf`] leaves out of the scene: not a surface,
@@ -500,7 +555,7 @@ fn load(bytes: &[u8], path: &Path, base: Option<&Path>) -> Result<GltfScene, Loa
         placed.push(places);
     }
 
-    let mut instances = Vec::new();
+    let (mut instances, mut cameras) = (Vec::new(), Vec::new());
     if let Some(scene) = document
         .default_scene()
         .or_else(|| document.scenes().next())
@@ -522,6 +577,24 @@ fn load(bytes: &[u8], path: &Path, base: Option<&Path>) -> Result<GltfScene, Loa
             let local =
                 DMat4::from_cols_array_2d(&node.transform().matrix().map(|c| c.map(f64::from)));
             let world = parent * local;
+            if let Some(camera) = node.camera() {
+                cameras.push(GltfCamera {
+                    node: node
+                        .name()
+                        .map_or_else(|| format!("node {}", node.index()), ToString::to_string),
+                    transform: DAffine3::from_mat4(world),
+                    projection: match camera.projection() {
+                        gltf::camera::Projection::Perspective(p) => Projection::Perspective {
+                            yfov: f64::from(p.yfov()),
+                            aspect_ratio: p.aspect_ratio().map(f64::from),
+                        },
+                        gltf::camera::Projection::Orthographic(o) => Projection::Orthographic {
+                            xmag: f64::from(o.xmag()),
+                            ymag: f64::from(o.ymag()),
+                        },
+                    },
+                });
+            }
             if let Some(mesh) = node.mesh() {
                 let name = node
                     .name()
@@ -577,6 +650,7 @@ fn load(bytes: &[u8], path: &Path, base: Option<&Path>) -> Result<GltfScene, Loa
         instances,
         materials,
         left_out,
+        cameras,
     })
 }
 
