@@ -152,15 +152,16 @@ pub trait PdfHittable: Hittable {
     }
 
     /// The light's first surface along `ray` within `ray_t`, as
-    /// [`sample_light`](PdfHittable::sample_light) finds it: [`hit`](Hittable::hit), but
-    /// whatever the masks, since a mask says which rays see a light, not where it is (a
-    /// lamp hidden from every ray by [`Masked`](crate::Masked) is found here, under any
-    /// wrapper or mixture).
+    /// [`sample_light`](PdfHittable::sample_light) finds it, and which of its lights that
+    /// is ([`LightSample::light`]): [`hit`](Hittable::hit), but whatever the masks, since
+    /// a mask says which rays see a light, not where it is (a lamp hidden from every ray
+    /// by [`Masked`](crate::Masked) is found here, under any wrapper or mixture).
     ///
-    /// The provided one is `hit`, right for a light that holds no `Masked`; a light that
-    /// holds others (an instance, a mixture, a tree) asks theirs.
-    fn light_hit(&self, ray: &Ray, ray_t: Interval) -> Option<HitRecord> {
-        self.hit(ray, ray_t)
+    /// The provided one is `hit`, and light 0: right for a light that holds no `Masked`
+    /// and is one light; a light that holds others (a mixture, a tree, a list) gives the
+    /// index of the one found, and a wrapper (an instance) forwards what it holds.
+    fn light_hit(&self, ray: &Ray, ray_t: Interval) -> Option<(usize, HitRecord)> {
+        self.hit(ray, ray_t).map(|hit| (0, hit))
     }
 }
 
@@ -212,7 +213,7 @@ macro_rules! forward_through {
                 (**self).light_pdf(at, direction)
             }
             #[inline]
-            fn light_hit(&self, ray: &Ray, ray_t: Interval) -> Option<HitRecord> {
+            fn light_hit(&self, ray: &Ray, ray_t: Interval) -> Option<(usize, HitRecord)> {
                 (**self).light_hit(ray, ray_t)
             }
         }
@@ -285,7 +286,7 @@ impl LightSample {
         if !ray.is_valid() {
             return None;
         }
-        let record = light.light_hit(&ray, Interval::FORWARD)?;
+        let (light, record) = light.light_hit(&ray, Interval::FORWARD)?;
         let pdf = pdf(direction);
         let distance = record.t;
         (pdf > 0.0 && pdf.is_finite() && distance.is_finite()).then_some(Self {
@@ -293,6 +294,7 @@ impl LightSample {
             distance,
             record,
             pdf,
+            light,
         })
     }
 }

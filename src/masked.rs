@@ -144,7 +144,7 @@ impl<T: PdfHittable> PdfHittable for Masked<T> {
         self.object.light_pdf(at, direction)
     }
     #[inline]
-    fn light_hit(&self, ray: &Ray, ray_t: Interval) -> Option<HitRecord> {
+    fn light_hit(&self, ray: &Ray, ray_t: Interval) -> Option<(usize, HitRecord)> {
         self.object.light_hit(ray, ray_t)
     }
 }

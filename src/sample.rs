@@ -99,6 +99,12 @@ pub struct LightSample {
     /// The density over solid angle with which `direction` was drawn
     /// ([`PdfHittable::light_pdf`] from the same context): positive and finite.
     pub pdf: f64,
+    /// Which light the sampled point is on: its index in the lights of the
+    /// [`LightTree`](crate::LightTree), [`Mixture`](crate::Mixture), slice or `Vec` that
+    /// sampled it (through instances and masks around it), 0 for a single light. With
+    /// `record` (its `uv`, `primitive` and point), where on it: what a textured emitter's
+    /// lookup needs ([`PdfHittable::light_hit`]).
+    pub light: usize,
 }
 
 /// How far a light's sampler retreats toward the middle of its shape, in turn, when a

@@ -214,3 +214,67 @@ fn bad_weights_are_refused_and_an_empty_mixture_is_dark() {
         DVec3::ZERO
     );
 }
+
+/// A `LightSample` says which light it is on: the light of that index in the tree, the
+/// mixture or the list that sampled it (through an instance and a mask around it) finds
+/// the sampled point along the sample's direction, at its distance. What a textured
+/// emitter's lookup needs to know, where the record alone does not say.
+#[test]
+fn a_sample_names_its_light() {
+    use hitkit::glam::{DQuat, DVec2, DVec3};
+    use hitkit::{
+        Emission, Hittable, Interval, LightTree, Masked, Mixture, PdfHittable, Quad, Ray,
+        ShadingContext, Transformed,
+    };
+    let lamps: Vec<Quad> = (0..12)
+        .map(|i| {
+            let x = f64::from(i) * 1.5 - 8.0;
+            Quad::new(
+                DVec3::new(x, 4.0 + 0.1 * f64::from(i % 3), -1.0),
+                DVec3::X,
+                DVec3::Z,
+            )
+            .unwrap()
+        })
+        .collect();
+    let emission = vec![Emission::BothSides(DVec3::Y); lamps.len()];
+    let powers: Vec<f64> = (0..lamps.len()).map(|i| 1.0 + i as f64).collect();
+    let samplers: Vec<Box<dyn PdfHittable>> = vec![
+        Box::new(LightTree::new(lamps.clone(), &powers, &emission).unwrap()),
+        Box::new(Mixture::new(lamps.clone(), &powers).unwrap()),
+        Box::new(lamps.clone()),
+        Box::new(
+            Transformed::new(
+                Masked::new(
+                    LightTree::new(lamps.clone(), &powers, &emission).unwrap(),
+                    0,
+                ),
+                DQuat::IDENTITY,
+                DVec3::ZERO,
+            )
+            .unwrap(),
+        ),
+    ];
+    let mut rng = support::SplitMix::new(4907);
+    for sampler in &samplers {
+        let mut named = vec![0; lamps.len()];
+        for _ in 0..2000 {
+            let at = ShadingContext::on_surface(
+                DVec3::new(16.0 * rng.next_f64() - 8.0, 0.0, 2.0 * rng.next_f64() - 1.0),
+                DVec3::Y,
+            );
+            let u = DVec2::new(rng.next_f64(), rng.next_f64());
+            let Some(sample) = sampler.sample_light(&at, u) else {
+                continue;
+            };
+            let ray = Ray::new(at.point, sample.direction);
+            let hit = lamps[sample.light]
+                .hit(&ray, Interval::FORWARD)
+                .expect("the named light");
+            assert_eq!(hit.t, sample.distance);
+            named[sample.light] += 1;
+        }
+        // Every light was named (the index is not always 0).
+        assert!(named.iter().all(|&n| n > 0), "{named:?}");
+    }
+}

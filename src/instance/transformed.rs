@@ -445,7 +445,14 @@ impl<T: PdfHittable, F: Frame> PdfHittable for Transformed<T, F> {
     }
 
     #[inline]
-    fn light_hit(&self, ray: &Ray, ray_t: Interval) -> Option<HitRecord> {
-        self.hit_by(ray, ray_t, T::light_hit)
+    fn light_hit(&self, ray: &Ray, ray_t: Interval) -> Option<(usize, HitRecord)> {
+        let which = core::cell::Cell::new(0);
+        let hit = self.hit_by(ray, ray_t, |object, ray, ray_t| {
+            object.light_hit(ray, ray_t).map(|(light, hit)| {
+                which.set(light);
+                hit
+            })
+        })?;
+        Some((which.get(), hit))
     }
 }

@@ -179,7 +179,7 @@ impl<T: PdfHittable> PdfHittable for Mixture<T> {
     }
 
     #[inline]
-    fn light_hit(&self, ray: &Ray, ray_t: Interval) -> Option<HitRecord> {
+    fn light_hit(&self, ray: &Ray, ray_t: Interval) -> Option<(usize, HitRecord)> {
         self.lights.light_hit(ray, ray_t)
     }
 }

@@ -36,15 +36,15 @@ impl<T: PdfHittable> PdfHittable for [T] {
     }
 
     /// The nearest of the lights' [`light_hit`](PdfHittable::light_hit)s (of hits at the
-    /// same `t`, the first light's, as `hit` keeps them).
-    fn light_hit(&self, ray: &Ray, ray_t: Interval) -> Option<HitRecord> {
-        let mut closest: Option<HitRecord> = None;
-        for light in self {
-            let max = closest.map_or(ray_t.max, |h| h.t);
-            if let Some(h) = light.light_hit(ray, Interval::new(ray_t.min, max))
-                && closest.is_none_or(|c| h.t < c.t)
+    /// same `t`, the first light's, as `hit` keeps them), and that light's index.
+    fn light_hit(&self, ray: &Ray, ray_t: Interval) -> Option<(usize, HitRecord)> {
+        let mut closest: Option<(usize, HitRecord)> = None;
+        for (i, light) in self.iter().enumerate() {
+            let max = closest.map_or(ray_t.max, |(_, h)| h.t);
+            if let Some((_, h)) = light.light_hit(ray, Interval::new(ray_t.min, max))
+                && closest.is_none_or(|(_, c)| h.t < c.t)
             {
-                closest = Some(h);
+                closest = Some((i, h));
             }
         }
         closest
@@ -61,7 +61,7 @@ impl<T: PdfHittable> PdfHittable for Vec<T> {
         self.as_slice().sample_direction(origin, u)
     }
     #[inline]
-    fn light_hit(&self, ray: &Ray, ray_t: Interval) -> Option<HitRecord> {
+    fn light_hit(&self, ray: &Ray, ray_t: Interval) -> Option<(usize, HitRecord)> {
         self.as_slice().light_hit(ray, ray_t)
     }
 }

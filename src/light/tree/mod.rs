@@ -259,15 +259,15 @@ impl Emitters {
 
 impl<T: PdfHittable> LightTree<T> {
     /// The nearest of the lights' hits by `hit_light` (`hit` or `light_hit`), found under
-    /// every node whose box the ray meets; of hits at the same `t`, the earlier light's,
-    /// as the list's loop keeps them.
+    /// every node whose box the ray meets, and that light's index; of hits at the same
+    /// `t`, the earlier light's, as the list's loop keeps them.
     #[inline]
     fn nearest(
         &self,
         ray: &Ray,
         ray_t: Interval,
         hit_light: impl Fn(&T, &Ray, Interval) -> Option<HitRecord>,
-    ) -> Option<HitRecord> {
+    ) -> Option<(usize, HitRecord)> {
         let mut best: Option<(usize, HitRecord)> = None;
         let mut stack = [0u32; MAX_DEPTH + 2];
         let mut top = usize::from(!self.nodes.is_empty());
@@ -292,13 +292,13 @@ impl<T: PdfHittable> LightTree<T> {
             stack[top + 1] = n + 1;
             top += 2;
         }
-        best.map(|(_, hit)| hit)
+        best
     }
 }
 
 impl<T: PdfHittable> Hittable for LightTree<T> {
     fn hit(&self, ray: &Ray, ray_t: Interval) -> Option<HitRecord> {
-        self.nearest(ray, ray_t, T::hit)
+        self.nearest(ray, ray_t, T::hit).map(|(_, hit)| hit)
     }
 
     fn bounding_box(&self) -> Aabb {
@@ -339,8 +339,10 @@ impl<T: PdfHittable> PdfHittable for LightTree<T> {
         self.density(at.point, at.unit_normal(), direction)
     }
 
-    fn light_hit(&self, ray: &Ray, ray_t: Interval) -> Option<HitRecord> {
-        self.nearest(ray, ray_t, T::light_hit)
+    fn light_hit(&self, ray: &Ray, ray_t: Interval) -> Option<(usize, HitRecord)> {
+        self.nearest(ray, ray_t, |light, ray, ray_t| {
+            light.light_hit(ray, ray_t).map(|(_, hit)| hit)
+        })
     }
 }
 
