@@ -9,14 +9,18 @@
 //! renders `scene_file.png`; `-- --scene PATH` renders another glTF file's meshes with the
 //! same camera and lamp handling; `-- --help` lists the rest.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::sync::Arc;
 
 use hitkit::glam::{DQuat, DVec2, DVec3};
-use hitkit::load::{Alpha, GltfScene, load_gltf};
-use hitkit::{Bvh, Candidate, Filtered, Hittable, Masked, PdfHittable, Transformed};
+use hitkit::load::{Alpha, GltfLights, GltfScene, GltfTexture, Projection, load_gltf};
+use hitkit::{
+    Aabb, Bvh, Candidate, Filtered, HitRecord, Hittable, Interval, LightSample, Masked,
+    PdfHittable, Ray, ShadingContext, Transformed,
+};
 use hitkit_render::cli::{Options, run_with};
+use hitkit_render::texture::Texture;
 use hitkit_render::{Background, CameraSettings, Color, Material, Scene};
 
 /// The camera's rays carry this bit alone; everything but a lamp has it.
@@ -53,8 +57,27 @@ fn main() -> ExitCode {
             Some(path) => path,
             None => write_grove().map_err(|e| format!("cannot write the grove's file: {e}"))?,
         };
+        let start = std::time::Instant::now();
         let file = load_gltf(&path).map_err(|e| e.to_string())?;
-        let mut scene = scene(&file, o.width).map_err(|e| format!("{}: {e}", path.display()))?;
+        let loaded = start.elapsed();
+        for left in &file.left_out {
+            eprintln!("note: left out of {}: {left:?}", path.display());
+        }
+        let textures = images(&path);
+        let mut scene = scene(&file, &textures, o.width, grove)
+            .map_err(|e| format!("{}: {e}", path.display()))?;
+        eprintln!(
+            "{}: loaded in {:.3} s ({} instances of {} meshes, {} faces placed), scene in {:.3} s",
+            path.display(),
+            loaded.as_secs_f64(),
+            file.instances.len(),
+            file.meshes.len(),
+            file.instances
+                .iter()
+                .map(|i| file.meshes[i.mesh].mesh.face_count())
+                .sum::<usize>(),
+            (start.elapsed() - loaded).as_secs_f64(),
+        );
         if grove {
             // Among the trees rather than over the whole ground, with the lamp in view
             // above them (where the camera sees nothing).
@@ -81,52 +104,217 @@ fn leaf_alpha(uv: DVec2) -> f64 {
     }
 }
 
+/// The images of the glTF file at `path`, by their index in the file, decoded (PNG, JPEG)
+/// as colour (sRGB) textures; `None` for one that cannot be read (a warning says which).
+fn images(path: &Path) -> Vec<Option<Arc<Texture>>> {
+    let read = || -> Result<Vec<Option<Arc<Texture>>>, String> {
+        let bytes = std::fs::read(path).map_err(|e| e.to_string())?;
+        let file = gltf::Gltf::from_slice_without_validation(&bytes).map_err(|e| e.to_string())?;
+        let base = path.parent();
+        let buffers = gltf::import_buffers(&file.document, base, file.blob.clone())
+            .map_err(|e| e.to_string())?;
+        Ok(file
+            .document
+            .images()
+            .map(|image| {
+                let index = image.index();
+                let decoded = gltf::image::Data::from_source(image.source(), base, &buffers)
+                    .map_err(|e| e.to_string())
+                    .and_then(|d| {
+                        let channels = match d.format {
+                            gltf::image::Format::R8 => 1,
+                            gltf::image::Format::R8G8 => 2,
+                            gltf::image::Format::R8G8B8 => 3,
+                            gltf::image::Format::R8G8B8A8 => 4,
+                            other => return Err(format!("{other:?} texels are not read")),
+                        };
+                        Texture::from_pixels(d.width, d.height, channels, &d.pixels, true)
+                            .ok_or_else(|| "a short image".to_string())
+                    });
+                decoded
+                    .map_err(|e| eprintln!("warning: image {index} of {}: {e}", path.display()))
+                    .ok()
+                    .map(Arc::new)
+            })
+            .collect())
+    };
+    read().unwrap_or_else(|e| {
+        eprintln!("warning: no textures from {}: {e}", path.display());
+        Vec::new()
+    })
+}
+
+/// The scene's emitters as the renderer samples them: `lights` (from
+/// [`GltfScene::lights_with`], each face weighed by its emissive texture's mean over it),
+/// with each sample's `uv` made the mesh's texture coordinates at the sampled point, so
+/// that a textured emitter's material looks its texture up there as it does at a hit.
+struct TexturedLights {
+    lights: GltfLights,
+    /// For each light: its face's corner uvs, in the order the light's corners were given
+    /// (a mirroring instance's two last swapped), where its mesh has them.
+    uvs: Vec<Option<[DVec2; 3]>>,
+}
+
+impl Hittable for TexturedLights {
+    fn hit(&self, ray: &Ray, ray_t: Interval) -> Option<HitRecord> {
+        self.lights.tree.hit(ray, ray_t)
+    }
+    fn bounding_box(&self) -> Aabb {
+        self.lights.tree.bounding_box()
+    }
+}
+
+impl PdfHittable for TexturedLights {
+    fn pdf_value(&self, origin: DVec3, direction: DVec3) -> f64 {
+        self.lights.tree.pdf_value(origin, direction)
+    }
+    fn sample_direction(&self, origin: DVec3, u: DVec2) -> DVec3 {
+        self.lights.tree.sample_direction(origin, u)
+    }
+    fn light_pdf(&self, at: &ShadingContext, direction: DVec3) -> f64 {
+        self.lights.tree.light_pdf(at, direction)
+    }
+    fn sample_light(&self, at: &ShadingContext, u: DVec2) -> Option<LightSample> {
+        let mut sample = self.lights.tree.sample_light(at, u)?;
+        if let Some([a, b, c]) = self.uvs[sample.light] {
+            // A triangle light's `uv` is its `(alpha, beta)`: the weights of its second and
+            // third corners.
+            let (alpha, beta) = (sample.record.uv.x, sample.record.uv.y);
+            sample.record.uv = a * (1.0 - alpha - beta) + b * alpha + c * beta;
+        }
+        Some(sample)
+    }
+}
+
 /// The scene the file describes, for the examples' renderer: every instance into one
-/// tree (a cut-out material's mesh behind a filter, a lamp hidden from the camera), the
-/// materials by their base colour and emission, the lamps as a light tree.
-fn scene(file: &GltfScene, width: usize) -> Result<Scene<Bvh<Box<dyn Hittable>>>, String> {
+/// tree (cut-outs and single-sided surfaces behind a filter; for the grove, its lamp
+/// hidden from the camera), the materials by their base colour and emission (textured
+/// where the file says, from `textures`), the emitters as a light tree weighed by their
+/// textures, the file's own camera where it has one, and a sky where nothing emits.
+fn scene(
+    file: &GltfScene,
+    textures: &[Option<Arc<Texture>>],
+    width: usize,
+    grove: bool,
+) -> Result<Scene<Bvh<Box<dyn Hittable>>>, String> {
+    let texture = |t: Option<GltfTexture>| t.and_then(|t| textures.get(t.image).cloned().flatten());
     let mut objects: Vec<Box<dyn Hittable>> = Vec::new();
     let placed = file.transformed().map_err(|e| e.to_string())?;
     for (moved, instance) in placed.into_iter().zip(&file.instances) {
         let mesh = &file.meshes[instance.mesh];
         let material = mesh.material.map(|m| &file.materials[m]);
         let lamp = material.is_some_and(|m| m.emissive != DVec3::ZERO);
-        let object: Box<dyn Hittable> = match material.map(|m| m.alpha) {
-            Some(Alpha::Mask { cutoff }) => {
-                let cut = Filtered::new(mesh.mesh.clone(), move |c: &Candidate| {
-                    leaf_alpha(c.uv()) >= cutoff
-                });
-                let moved = Transformed::affine(Arc::new(cut), instance.transform)
-                    .map_err(|e| e.to_string())?;
-                Box::new(moved)
-            }
-            _ => Box::new(moved),
+        // What glTF asks a renderer to cut: below the alpha cutoff (the base colour's
+        // alpha times its texture's), and the back of a single-sided surface.
+        let cutoff = match material.map(|m| m.alpha) {
+            Some(Alpha::Mask { cutoff }) => Some(cutoff),
+            _ => None,
         };
-        let mask = if lamp { !CAMERA } else { u32::MAX };
+        let single_sided = material.is_some_and(|m| !m.double_sided) && !grove;
+        let object: Box<dyn Hittable> = if cutoff.is_some() || single_sided {
+            let alpha_texture = material.and_then(|m| texture(m.base_color_texture));
+            let factor = material.map_or(1.0, |m| m.base_color[3]);
+            let cut = Filtered::new(mesh.mesh.clone(), move |c: &Candidate| {
+                if single_sided && !c.front_face() {
+                    return false;
+                }
+                let Some(cutoff) = cutoff else { return true };
+                let alpha = match &alpha_texture {
+                    Some(t) => factor * t.sample(c.uv()).w,
+                    None if grove => leaf_alpha(c.uv()),
+                    None => factor,
+                };
+                alpha >= cutoff
+            });
+            let moved = Transformed::affine(Arc::new(cut), instance.transform)
+                .map_err(|e| e.to_string())?;
+            Box::new(moved)
+        } else {
+            Box::new(moved)
+        };
+        let mask = if lamp && grove { !CAMERA } else { u32::MAX };
         objects.push(Box::new(Masked::new(object, mask)));
     }
     let materials = file
         .materials
         .iter()
         .map(|m| {
-            if m.emissive != DVec3::ZERO {
-                Material::Light(m.emissive)
-            } else {
-                let [r, g, b, _] = m.base_color;
-                Material::Lambertian(Color::new(r, g, b))
+            let [r, g, b, _] = m.base_color;
+            match (
+                m.emissive != DVec3::ZERO,
+                texture(m.emissive_texture),
+                texture(m.base_color_texture),
+            ) {
+                (true, Some(t), _) => Material::TexturedLight(m.emissive, t),
+                (true, None, _) => Material::Light(m.emissive),
+                (false, _, Some(t)) => Material::TexturedLambertian(Color::new(r, g, b), t),
+                (false, _, None) => Material::Lambertian(Color::new(r, g, b)),
             }
         })
         .collect::<Vec<_>>();
-    let lights = file
-        .lights()
-        .map_err(|e| e.to_string())?
-        .map(|tree| Box::new(tree) as Box<dyn PdfHittable>);
+    // Each emitting face weighed by its texture's mean luminance over it (a face the
+    // texture leaves dark is no light); its corner uvs kept for the lookup at a sample.
+    let mut corner_uvs = std::collections::HashMap::new();
+    let weighed = file
+        .lights_with(|face| {
+            let uvs = face.uvs;
+            corner_uvs.insert((face.instance, face.face), uvs);
+            match (texture(face.material.emissive_texture), uvs) {
+                (Some(t), Some(uvs)) => t.mean_luminance(uvs),
+                _ => 1.0,
+            }
+        })
+        .map_err(|e| e.to_string())?;
+    let lights = weighed.map(|lights| {
+        let uvs = lights
+            .sources
+            .iter()
+            .map(|&(instance, face)| {
+                let mirrored = file.instances[instance].transform.matrix3.determinant() < 0.0;
+                corner_uvs
+                    .get(&(instance, face))
+                    .copied()
+                    .flatten()
+                    .map(|[a, b, c]| if mirrored { [a, c, b] } else { [a, b, c] })
+            })
+            .collect();
+        Box::new(TexturedLights { lights, uvs }) as Box<dyn PdfHittable>
+    });
     let world = Bvh::new(objects);
-    // Looking at the scene's box from the front, a little above.
+    // The file's own camera; else looking at the scene's box from the front, a little
+    // above and to the right, from where its bounding sphere fills the view's height.
     let bbox = world.bounding_box();
     let (lo, hi) = (bbox.min(), bbox.max());
     let centre = 0.5 * (lo + hi);
     let extent = (hi - lo).max_element();
+    let radius = 0.5 * (hi - lo).length();
+    let vfov: f64 = 40.0;
+    let distance = 1.05 * radius / (0.5 * vfov.to_radians()).sin();
+    let mut camera = CameraSettings {
+        width,
+        height: width * 9 / 16,
+        vfov,
+        lookfrom: centre + distance * DVec3::new(0.25, 0.3, 1.0).normalize(),
+        lookat: centre,
+        vup: DVec3::Y,
+        defocus_angle: 0.0,
+        focus_dist: extent,
+        shutter: false,
+        mask: CAMERA,
+    };
+    if let Some(eye) = file.cameras.first() {
+        camera.lookfrom = eye.position();
+        camera.lookat = eye.position() + eye.forward();
+        camera.vup = eye.up();
+        camera.focus_dist = 1.0;
+        if let Projection::Perspective { yfov, aspect_ratio } = eye.projection {
+            camera.vfov = yfov.to_degrees();
+            if let Some(aspect) = aspect_ratio.filter(|a| *a > 0.0 && a.is_finite()) {
+                camera.height = ((width as f64 / aspect).round() as usize).max(1);
+            }
+        }
+    }
+    let nothing_emits = lights.is_none();
     Ok(Scene {
         world,
         materials: if materials.is_empty() {
@@ -136,19 +324,12 @@ fn scene(file: &GltfScene, width: usize) -> Result<Scene<Bvh<Box<dyn Hittable>>>
         },
         lights,
         next_event: true,
-        background: Background::Solid(Color::new(0.05, 0.06, 0.09)),
-        camera: CameraSettings {
-            width,
-            height: width * 9 / 16,
-            vfov: 40.0,
-            lookfrom: centre + extent * DVec3::new(0.1, 0.35, 1.1),
-            lookat: centre - DVec3::new(0.0, 0.15 * extent, 0.0),
-            vup: DVec3::Y,
-            defocus_angle: 0.0,
-            focus_dist: extent,
-            shutter: false,
-            mask: CAMERA,
+        background: if nothing_emits {
+            Background::Sky
+        } else {
+            Background::Solid(Color::new(0.05, 0.06, 0.09))
         },
+        camera,
     })
 }
 

@@ -13,6 +13,7 @@ pub mod material;
 pub mod medium;
 pub mod render;
 pub mod scenes;
+pub mod texture;
 pub mod workloads;
 
 use hitkit::glam::DVec3;
@@ -97,7 +98,7 @@ impl<W: Hittable> Scene<W> {
             emission: self
                 .materials
                 .iter()
-                .any(|m| matches!(m, Material::Light(_))),
+                .any(|m| matches!(m, Material::Light(_) | Material::TexturedLight(..))),
             light_sampling: self.lights.is_some(),
             defocus: self.camera.defocus_angle > 0.0,
         }

@@ -1,13 +1,16 @@
 //! The book's materials, as one enum: a match is cheaper than a virtual call per bounce.
 
+use std::sync::Arc;
+
 use hitkit::HitRecord;
 use hitkit::glam::DVec3;
 use rand::RngExt;
 use rand::rngs::SmallRng;
 
 use crate::Color;
+use crate::texture::Texture;
 
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 pub enum Material {
     /// Ideal diffuse reflector with this albedo.
     Lambertian(Color),
@@ -17,6 +20,12 @@ pub enum Material {
     Dielectric(f64),
     /// Emits this radiance from its front face; reflects nothing.
     Light(Color),
+    /// Diffuse, its albedo the colour times the texture at the hit's `uv` (glTF's base
+    /// colour factor and texture).
+    TexturedLambertian(Color, Arc<Texture>),
+    /// Emits the colour times the texture at the hit's `uv` from its front face (glTF's
+    /// emissive factor and texture); reflects nothing.
+    TexturedLight(Color, Arc<Texture>),
 }
 
 /// What happens to a ray at a surface.
@@ -36,6 +45,9 @@ impl Material {
     pub fn emitted(&self, hit: &HitRecord) -> Color {
         match self {
             Material::Light(radiance) if hit.front_face => *radiance,
+            Material::TexturedLight(radiance, texture) if hit.front_face => {
+                *radiance * texture.sample(hit.uv).truncate()
+            }
             _ => Color::ZERO,
         }
     }
@@ -44,6 +56,9 @@ impl Material {
     pub fn scatter(&self, direction: DVec3, hit: &HitRecord, rng: &mut SmallRng) -> Scatter {
         match *self {
             Material::Lambertian(albedo) => Scatter::Diffuse(albedo),
+            Material::TexturedLambertian(albedo, ref texture) => {
+                Scatter::Diffuse(albedo * texture.sample(hit.uv).truncate())
+            }
             Material::Metal(albedo, fuzz) => {
                 let reflected =
                     reflect(direction.normalize(), hit.normal) + fuzz * random_unit_vector(rng);
@@ -65,7 +80,7 @@ impl Material {
                 };
                 Scatter::Specular(out, Color::ONE)
             }
-            Material::Light(_) => Scatter::None,
+            Material::Light(_) | Material::TexturedLight(..) => Scatter::None,
         }
     }
 }
