@@ -617,3 +617,39 @@ fn cameras_come_with_their_place_and_projection() {
     );
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// A GLB file whose header gives a length shorter than the header (0 here) is a parse
+/// error: the `gltf` crate's own split subtracted the header's size from it unchecked
+/// (a panic with overflow checks on, as in tests). Found by the `gltf` fuzz target.
+#[test]
+fn a_glb_header_shorter_than_itself_is_an_error() {
+    let mut bytes = b"glTF".to_vec();
+    bytes.extend(2u32.to_le_bytes());
+    bytes.extend(0u32.to_le_bytes());
+    bytes.extend(8u32.to_le_bytes());
+    bytes.extend(b"JSON{}  ");
+    let err = load_gltf_slice(&bytes).unwrap_err();
+    assert!(matches!(err.kind, LoadErrorKind::Parse(_)), "{err:?}");
+    // And chunks past the file's end, or a first chunk that is not JSON.
+    for (length, chunk, kind) in [(28u32, 1000u32, *b"JSON"), (28, 8, *b"BIN\0")] {
+        let mut bytes = b"glTF".to_vec();
+        bytes.extend(2u32.to_le_bytes());
+        bytes.extend(length.to_le_bytes());
+        bytes.extend(chunk.to_le_bytes());
+        bytes.extend(kind);
+        bytes.extend(b"{}      ");
+        let err = load_gltf_slice(&bytes).unwrap_err();
+        assert!(matches!(err.kind, LoadErrorKind::Parse(_)), "{err:?}");
+    }
+}
+
+/// A buffer whose file name's percent escapes decode to bytes that are not UTF-8 is a parse
+/// error (the `gltf` crate unwrapped the decoding and panicked). Found by the `gltf` fuzz
+/// target.
+#[test]
+fn a_buffer_name_that_is_not_utf8_is_an_error() {
+    let json = scene_json(4).replace(r#""uri": "scene.bin""#, r#""uri": "scene%AA.bin""#);
+    let err = load_gltf_slice(json.as_bytes()).unwrap_err();
+    assert!(matches!(err.kind, LoadErrorKind::Parse(_)), "{err:?}");
+    assert!(err.to_string().contains("buffer 0"), "{err}");
+}

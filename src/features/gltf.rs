@@ -401,11 +401,8 @@ const READ: &[&str] = &["KHR_materials_emissive_strength", "EXT_mesh_gpu_instanc
 fn load(bytes: &[u8], path: &Path, base: Option<&Path>) -> Result<GltfScene, LoadError> {
     let parse = |what: String| LoadError::new(path, LoadErrorKind::Parse(what));
     let (json, blob) = if bytes.starts_with(b"glTF") {
-        let glb = gltf::Glb::from_slice(bytes).map_err(|e| parse(e.to_string()))?;
-        (
-            glb.json.into_owned(),
-            glb.bin.map(std::borrow::Cow::into_owned),
-        )
+        let (json, bin) = split_glb(bytes).map_err(|e| parse(format!("a GLB file: {e}")))?;
+        (json.to_vec(), bin.map(<[u8]>::to_vec))
     } else {
         (bytes.to_vec(), None)
     };
@@ -428,6 +425,20 @@ fn load(bytes: &[u8], path: &Path, base: Option<&Path>) -> Result<GltfScene, Loa
     root.extensions_required.clear();
     check_references(&root, path)?;
     let document = gltf::Document::from_json(root).map_err(|e| parse(e.to_string()))?;
+    // The `gltf` crate decodes a file name's percent escapes and unwraps the result: one
+    // that is not UTF-8 once decoded would panic there.
+    for buffer in document.buffers() {
+        if let gltf::buffer::Source::Uri(uri) = buffer.source()
+            && !uri.contains(':')
+            && !percent_decodes(uri)
+        {
+            let what = format!(
+                "buffer {}'s file name is not UTF-8 once decoded",
+                buffer.index()
+            );
+            return Err(parse(what));
+        }
+    }
     let buffers = gltf::import_buffers(&document, base, blob).map_err(|e| match e {
         gltf::Error::Io(e) => LoadError::new(path, LoadErrorKind::Io(e)),
         gltf::Error::ExternalReferenceInSliceImport => LoadError::new(
@@ -754,6 +765,78 @@ fn gpu_instances(
                 * DMat4::from_scale(at(&scales, DVec3::ONE))
         })
         .collect())
+}
+
+/// Whether `uri`'s percent escapes (a `%` and two hex digits; any other `%` kept as it
+/// is) decode to UTF-8.
+fn percent_decodes(uri: &str) -> bool {
+    let bytes = uri.as_bytes();
+    let mut decoded = Vec::with_capacity(bytes.len());
+    let mut i = 0;
+    while i < bytes.len() {
+        let hex = |b: u8| char::from(b).to_digit(16);
+        match (
+            bytes[i],
+            bytes.get(i + 1).copied().and_then(hex),
+            bytes.get(i + 2).copied().and_then(hex),
+        ) {
+            (b'%', Some(high), Some(low)) => {
+                decoded.push((high * 16 + low) as u8);
+                i += 3;
+            }
+            (b, _, _) => {
+                decoded.push(b);
+                i += 1;
+            }
+        }
+    }
+    String::from_utf8(decoded).is_ok()
+}
+
+/// A GLB file's JSON chunk and its binary chunk, if any, with every length checked
+/// against the bytes there are (the `gltf` crate's own split subtracts a header's length
+/// unchecked, which overflows on a short one).
+fn split_glb(bytes: &[u8]) -> Result<(&[u8], Option<&[u8]>), String> {
+    let word = |at: usize| -> Result<u32, String> {
+        bytes
+            .get(at..at + 4)
+            .map(|w| u32::from_le_bytes([w[0], w[1], w[2], w[3]]))
+            .ok_or_else(|| {
+                format!(
+                    "it ends at byte {} inside its header or a chunk's",
+                    bytes.len()
+                )
+            })
+    };
+    let (version, length) = (word(4)?, word(8)? as usize);
+    if version != 2 {
+        return Err(format!(
+            "version {version}, where glTF 2.0 files are version 2"
+        ));
+    }
+    if length > bytes.len() || length < 12 {
+        return Err(format!(
+            "a length of {length} bytes, in a file of {}",
+            bytes.len()
+        ));
+    }
+    let mut chunks = Vec::new();
+    let mut at = 12;
+    while at < length {
+        let (size, kind) = (word(at)? as usize, word(at + 4)?);
+        let start = at + 8;
+        let end = start
+            .checked_add(size)
+            .filter(|&end| end <= length)
+            .ok_or_else(|| format!("a chunk of {size} bytes at byte {at} past the file's end"))?;
+        chunks.push((kind, &bytes[start..end]));
+        at = end;
+    }
+    match chunks[..] {
+        [(0x4E4F_534A, json)] => Ok((json, None)),
+        [(0x4E4F_534A, json), (0x004E_4942, bin), ..] => Ok((json, Some(bin))),
+        _ => Err("its first chunk is not its JSON".into()),
+    }
 }
 
 /// glTF's name for a mode of points or lines; `None` for the triangle modes.
