@@ -204,7 +204,7 @@ pub use light::RandomDirection;
 #[cfg(feature = "rand09")]
 #[cfg_attr(docsrs, doc(cfg(feature = "rand09")))]
 pub use light::RandomDirection09;
-pub use light::{Emission, LightTree, Mixture};
+pub use light::{Emission, LightPick, LightTree, Mixture};
 pub use masked::Masked;
 pub use mesh::{Candidate, Face, Filtered, TriangleMesh};
 pub use ray::Ray;

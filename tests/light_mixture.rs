@@ -278,3 +278,109 @@ fn a_sample_names_its_light() {
         assert!(named.iter().all(|&n| n > 0), "{named:?}");
     }
 }
+
+/// `LightTree::pick` and `Mixture::pick`: the frequency of each light among the picks of
+/// stratified numbers is its probability (to within five standard deviations), the pick's
+/// probability is `probability` bit for bit, what is left of the number is in `[0, 1)`,
+/// and next-event estimation by the pick (the light's own density times the pick's
+/// probability) agrees with `sample_light`'s full density (irradiance within four
+/// standard errors).
+#[test]
+fn a_pick_has_the_probability_it_says() {
+    use hitkit::glam::{DVec2, DVec3};
+    use hitkit::{Emission, LightTree, Mixture, PdfHittable, Quad, ShadingContext};
+    let lamps: Vec<Quad> = (0..9)
+        .map(|i| {
+            let (x, z) = (f64::from(i % 3) * 3.0 - 3.0, f64::from(i / 3) * 3.0 - 3.0);
+            let size = 0.5 + 0.25 * f64::from(i % 4);
+            Quad::new(
+                DVec3::new(x, 3.0 + 0.5 * f64::from(i % 2), z),
+                DVec3::X * size,
+                DVec3::Z * size,
+            )
+            .unwrap()
+        })
+        .collect();
+    let powers: Vec<f64> = (0..lamps.len()).map(|i| 1.0 + (i * 7 % 5) as f64).collect();
+    let tree = LightTree::new(
+        lamps.clone(),
+        &powers,
+        &vec![Emission::OneSide(DVec3::NEG_Y); lamps.len()],
+    )
+    .unwrap();
+    let mixture = Mixture::new(lamps.clone(), &powers).unwrap();
+    const N: usize = 60_000;
+    let mut rng = support::SplitMix::new(5002);
+    for point in [
+        DVec3::new(0.3, 0.0, -0.2),
+        DVec3::new(-4.0, 0.0, 3.5),
+        DVec3::new(2.0, 1.0, 2.0),
+    ] {
+        let at = ShadingContext::on_surface(point, DVec3::Y);
+        let mut counts = [vec![0usize; lamps.len()], vec![0usize; lamps.len()]];
+        // The least and greatest of what is left of `u`, per light: all of [0, 1).
+        let mut rests = [
+            vec![(1.0f64, 0.0f64); lamps.len()],
+            vec![(1.0f64, 0.0f64); lamps.len()],
+        ];
+        let (mut by_pick, mut by_density) = (Vec::new(), Vec::new());
+        for k in 0..N {
+            let u = (k as f64 + rng.next_f64()) / N as f64;
+            let v = rng.next_f64();
+            for (which, pick) in [tree.pick(&at, u), mixture.pick(u)].into_iter().enumerate() {
+                let pick = pick.expect("every lamp faces the point");
+                assert!((0.0..1.0).contains(&pick.rest), "{pick:?}");
+                let expected = if which == 0 {
+                    tree.probability(&at, pick.light)
+                } else {
+                    mixture.probability(pick.light)
+                };
+                assert_eq!(pick.probability, expected);
+                counts[which][pick.light] += 1;
+                let (low, high) = &mut rests[which][pick.light];
+                (*low, *high) = (low.min(pick.rest), high.max(pick.rest));
+            }
+            // Irradiance at the point: by the tree's pick and the lamp's own density, and
+            // by the tree's full density.
+            let pick = tree.pick(&at, u).unwrap();
+            by_pick.push(
+                lamps[pick.light]
+                    .sample_light(&at, DVec2::new(pick.rest, v))
+                    .map_or(0.0, |s| s.direction.y / (pick.probability * s.pdf)),
+            );
+            by_density.push(
+                tree.sample_light(&at, DVec2::new(rng.next_f64(), rng.next_f64()))
+                    .map_or(0.0, |s| s.direction.y / s.pdf),
+            );
+        }
+        for (which, counts) in counts.iter().enumerate() {
+            for (i, &count) in counts.iter().enumerate() {
+                let p = if which == 0 {
+                    tree.probability(&at, i)
+                } else {
+                    mixture.probability(i)
+                };
+                let sigma = (N as f64 * p * (1.0 - p)).sqrt();
+                assert!(
+                    (count as f64 - N as f64 * p).abs() <= 5.0 * sigma + 1.0,
+                    "{which} {i}: {count} for {p}"
+                );
+            }
+        }
+        for (which, rests) in rests.iter().enumerate() {
+            for (i, &(low, high)) in rests.iter().enumerate() {
+                assert!(
+                    low < 0.01 && high > 0.99,
+                    "{which} {i}: rest from {low} to {high}"
+                );
+            }
+        }
+        let stats = |v: &[f64]| {
+            let n = v.len() as f64;
+            let mean = v.iter().sum::<f64>() / n;
+            let var = v.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1.0);
+            (mean, (var / n).sqrt())
+        };
+        support::assert_same_mean(stats(&by_pick), stats(&by_density), "irradiance");
+    }
+}

@@ -119,6 +119,47 @@ impl<T> Mixture<T> {
         &self.lights
     }
 
+    /// The light `u` in `[0, 1)` picks (the first whose cumulative probability exceeds
+    /// it), with its probability and what is left of `u`, rescaled to `[0, 1)`: what
+    /// [`sample_direction`](PdfHittable::sample_direction) does before sampling the light,
+    /// for next-event estimation that divides by the probability times the light's own
+    /// density. `None` for an empty mixture.
+    ///
+    /// ```
+    /// use hitkit::glam::DVec3;
+    /// use hitkit::{Mixture, Sphere};
+    ///
+    /// # fn main() -> Result<(), hitkit::GeometryError> {
+    /// let lights = Mixture::new(
+    ///     vec![Sphere::new(DVec3::Y * 5.0, 1.0)?, Sphere::new(DVec3::X * 5.0, 1.0)?],
+    ///     &[3.0, 1.0],
+    /// )?;
+    /// let pick = lights.pick(0.8).unwrap();
+    /// assert_eq!((pick.light, pick.probability), (1, 0.25));
+    /// assert!((pick.rest - 0.2).abs() < 1e-12);
+    /// # Ok(())
+    /// # }
+    /// ```
+    #[must_use]
+    pub fn pick(&self, u: f64) -> Option<crate::LightPick> {
+        // Into [0, 1) (NaN to 0): below the last cumulative probability, exactly 1, so the
+        // light found has a non-zero probability.
+        let x = if u > 0.0 {
+            u.min(1.0 - f64::EPSILON / 2.0)
+        } else {
+            0.0
+        };
+        let light = self.cumulative.partition_point(|&c| c <= x);
+        let probability = *self.probabilities.get(light)?;
+        let below = light.checked_sub(1).map_or(0.0, |i| self.cumulative[i]);
+        let rest = ((x - below) / probability).clamp(0.0, 1.0 - f64::EPSILON / 2.0);
+        Some(crate::LightPick {
+            light,
+            probability,
+            rest,
+        })
+    }
+
     /// The probability with which light `i` is sampled.
     ///
     /// # Panics
@@ -159,23 +200,12 @@ impl<T: PdfHittable> PdfHittable for Mixture<T> {
     }
 
     /// `u.x` picks the light (the first whose cumulative probability exceeds it) and, scaled
-    /// back to `[0, 1]` within that light's share, becomes the light's own `u.x`. The zero
+    /// back to `[0, 1)` within that light's share, becomes the light's own `u.x`. The zero
     /// vector for an empty mixture.
     fn sample_direction(&self, origin: DVec3, u: DVec2) -> DVec3 {
-        // Into [0, 1) (NaN to 0): below the last cumulative probability, exactly 1, so the
-        // light found has a non-zero probability.
-        let x = if u.x > 0.0 {
-            u.x.min(1.0 - f64::EPSILON / 2.0)
-        } else {
-            0.0
-        };
-        let index = self.cumulative.partition_point(|&c| c <= x);
-        let Some(light) = self.lights.get(index) else {
-            return DVec3::ZERO;
-        };
-        let below = index.checked_sub(1).map_or(0.0, |i| self.cumulative[i]);
-        let rest = ((x - below) / self.probabilities[index]).clamp(0.0, 1.0);
-        light.sample_direction(origin, DVec2::new(rest, u.y))
+        self.pick(u.x).map_or(DVec3::ZERO, |pick| {
+            self.lights[pick.light].sample_direction(origin, DVec2::new(pick.rest, u.y))
+        })
     }
 
     #[inline]

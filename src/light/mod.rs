@@ -15,6 +15,27 @@ mod tree;
 mod uniform;
 
 pub use mixture::Mixture;
+
+/// A light picked for next-event estimation ([`LightTree::pick`], [`Mixture::pick`]):
+/// which one, the probability it had, and what is left of the number that picked it.
+///
+/// Next-event estimation samples the picked light alone and divides by the probability
+/// times that light's own density: cheaper than [`PdfHittable::sample_light`] of the whole
+/// mixture or tree, which returns the full density (every light's share of the direction),
+/// what multiple importance sampling of a direction the material drew needs instead.
+///
+/// [`PdfHittable::sample_light`]: crate::PdfHittable::sample_light
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
+pub struct LightPick {
+    /// The light's index in the sampler's `lights()`.
+    pub light: usize,
+    /// The probability that it is picked from where it was: positive.
+    pub probability: f64,
+    /// What is left of the number `u` that picked it, rescaled to `[0, 1)`: a uniform
+    /// number for the light's own sample, independent of the pick.
+    pub rest: f64,
+}
 #[cfg(feature = "rand")]
 pub use random::RandomDirection;
 #[cfg(feature = "rand09")]

@@ -455,7 +455,7 @@ mod tests {
             const N: usize = 4096;
             let (mut counts, mut none) = (alloc::vec![0usize; specs.len()], 0usize);
             for k in 0..N {
-                match tree.pick(origin, normal, (k as f64 + 0.5) / N as f64) {
+                match tree.pick_at(origin, normal, (k as f64 + 0.5) / N as f64) {
                     Some((i, rest, walked)) => {
                         prop_assert!((0.0..1.0).contains(&rest));
                         // The walk's own product is the one found from the leaf up.
@@ -499,7 +499,7 @@ mod tests {
             prop_assert!((pdf - loop_sum).abs() <= rounding * loop_sum, "{} against {}", pdf, loop_sum);
             // A light that can be reached from here gets a density: the sampled direction
             // reaches the light it was drawn toward.
-            if let Some((i, _, _)) = tree.pick(origin, normal.and_then(DVec3::try_normalize), u[0])
+            if let Some((i, _, _)) = tree.pick_at(origin, normal.and_then(DVec3::try_normalize), u[0])
                 && tree.lights()[i].pdf_value(origin, d) > 0.0
             {
                 prop_assert!(pdf > 0.0);

@@ -9,6 +9,48 @@ use crate::{Interval, PdfHittable, Ray};
 use crate::{LightSample, ShadingContext};
 
 impl<T: PdfHittable> LightTree<T> {
+    /// The light the walk picks from `at` with `u` in `[0, 1)`, with its probability (the
+    /// same, bit for bit, as [`LightTree::probability`]) and what is left of `u`; `None`
+    /// for an empty tree, a point that is not finite, or where every light the walk can
+    /// reach lies below the horizon of `at`'s surface (see
+    /// [`sample_light`](PdfHittable::sample_light)).
+    ///
+    /// ```
+    /// use hitkit::glam::{DVec2, DVec3};
+    /// use hitkit::{Emission, LightTree, PdfHittable, Quad, ShadingContext};
+    ///
+    /// # fn main() -> Result<(), hitkit::GeometryError> {
+    /// let lamps = vec![
+    ///     Quad::new(DVec3::new(-3.0, 2.0, 0.0), DVec3::X, DVec3::Z)?,
+    ///     Quad::new(DVec3::new(2.0, 2.0, 0.0), DVec3::X, DVec3::Z)?,
+    /// ];
+    /// let tree = LightTree::new(lamps, &[1.0, 1.0], &[Emission::OneSide(DVec3::NEG_Y); 2])?;
+    /// let floor = ShadingContext::on_surface(DVec3::new(2.5, 0.0, 0.5), DVec3::Y);
+    /// let (u, v) = (0.3, 0.7);
+    /// let pick = tree.pick(&floor, u).expect("the lamps face the floor");
+    /// assert_eq!(pick.probability, tree.probability(&floor, pick.light));
+    /// let lamp = &tree.lights()[pick.light];
+    /// let sample = lamp.sample_light(&floor, DVec2::new(pick.rest, v)).unwrap();
+    /// // Next-event estimation divides by both: the pick, then the lamp's own density.
+    /// let weight = 1.0 / (pick.probability * sample.pdf);
+    /// assert!(weight > 0.0 && weight.is_finite());
+    /// # Ok(())
+    /// # }
+    /// ```
+    #[must_use]
+    pub fn pick(&self, at: &ShadingContext, u: f64) -> Option<crate::LightPick> {
+        let (origin, normal) = (at.point, at.unit_normal());
+        if !origin.is_finite() {
+            return None;
+        }
+        let (light, rest, walked) = LightTree::pick_at(self, origin, normal, u)?;
+        Some(crate::LightPick {
+            light,
+            probability: walked.probability(),
+            rest,
+        })
+    }
+
     /// The probability that a sample from `at` picks light `i`: the product of the
     /// choices on the walk down to it.
     ///
@@ -84,7 +126,7 @@ impl<T: PdfHittable> LightTree<T> {
     /// The walk from the root: the light `x` in `[0, 1)` picks, what is left of `x`,
     /// rescaled to `[0, 1)`, and the choices made; `None` for an empty tree, and where the
     /// walk picks no light (see [`LightTree::left_probability`]).
-    pub(super) fn pick(
+    pub(super) fn pick_at(
         &self,
         origin: DVec3,
         normal: Option<DVec3>,
@@ -119,7 +161,7 @@ impl<T: PdfHittable> LightTree<T> {
         if !origin.is_finite() {
             return DVec3::ZERO;
         }
-        self.pick(origin, normal, u.x)
+        self.pick_at(origin, normal, u.x)
             .map_or(DVec3::ZERO, |(i, x, _)| {
                 self.lights[i].sample_direction(origin, DVec2::new(x, u.y))
             })
@@ -133,7 +175,7 @@ impl<T: PdfHittable> LightTree<T> {
         if !origin.is_finite() {
             return None;
         }
-        let (i, x, walked) = self.pick(origin, normal, u.x)?;
+        let (i, x, walked) = self.pick_at(origin, normal, u.x)?;
         let direction = self.lights[i].sample_direction(origin, DVec2::new(x, u.y));
         let known = (walked.leaf, walked.probability());
         LightSample::along_with(self, at, direction, |d| {
