@@ -375,12 +375,10 @@ fn a_pick_has_the_probability_it_says() {
                 );
             }
         }
-        let stats = |v: &[f64]| {
-            let n = v.len() as f64;
-            let mean = v.iter().sum::<f64>() / n;
-            let var = v.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1.0);
-            (mean, (var / n).sqrt())
-        };
-        support::assert_same_mean(stats(&by_pick), stats(&by_density), "irradiance");
+        support::assert_same_mean(
+            support::mean_and_error(&by_pick),
+            support::mean_and_error(&by_density),
+            "irradiance",
+        );
     }
 }

@@ -225,10 +225,7 @@ fn a_mirrored_lamp_keeps_its_front_side() {
                 assert!(!back.record.front_face, "{scale}: lit above");
             }
         }
-        let n = values.len() as f64;
-        let mean = values.iter().sum::<f64>() / n;
-        let var = values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0);
-        irradiance.push((mean, (var / n).sqrt()));
+        irradiance.push(support::mean_and_error(&values));
     }
     support::assert_same_mean(irradiance[0], irradiance[1], "mirrored against unmirrored");
     std::fs::remove_dir_all(&dir).unwrap();

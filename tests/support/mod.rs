@@ -72,6 +72,14 @@ pub fn brute_force<T: hitkit::Hittable>(
     best
 }
 
+/// The mean of `values` and its standard error (from their sample variance).
+pub fn mean_and_error(values: &[f64]) -> (f64, f64) {
+    let n = values.len() as f64;
+    let mean = values.iter().sum::<f64>() / n;
+    let var = values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0);
+    (mean, (var / n).sqrt())
+}
+
 /// Whether two estimates of one mean agree: within 4 standard errors of their difference
 /// (`sqrt(se_a^2 + se_b^2)`, each from per-pixel sample variances), a false alarm once in
 /// about 16,000 runs for normal errors (path contributions are heavy-tailed, which the
