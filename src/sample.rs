@@ -12,7 +12,7 @@ use crate::PdfHittable;
 
 /// Where a renderer gathers light: a point and, on a surface, its normal (pbrt-v4's
 /// `LightSampleContext`). Every light sampler takes one; a [`LightTree`](crate::LightTree)
-/// picks no light wholly below the surface's horizon.
+/// weighs its choices by the cosine at the surface, on either side of it.
 ///
 /// ```
 /// use hitkit::glam::DVec3;
@@ -26,9 +26,9 @@ use crate::PdfHittable;
 pub struct ShadingContext {
     /// The point being shaded.
     pub point: DVec3,
-    /// The geometric normal of the surface there (either side), or `None` in a medium or
-    /// on a surface that transmits light (where lights below the horizon still count). A
-    /// normal of length 0 or not finite counts as `None`.
+    /// The geometric normal of the surface there, facing either side (its sign never
+    /// changes an answer), or `None` in a medium, where no cosine at a surface weighs the
+    /// lights. A normal of length 0 or not finite counts as `None`.
     pub normal: Option<DVec3>,
 }
 
@@ -43,7 +43,8 @@ impl ShadingContext {
         }
     }
 
-    /// A point on an opaque surface facing `normal` (either side of it).
+    /// A point on a surface whose normal's line is `normal`, pointing to either side: a
+    /// floor's normal may point down and still gather the light above it.
     #[inline]
     #[must_use]
     pub fn on_surface(point: DVec3, normal: DVec3) -> Self {

@@ -9,8 +9,10 @@
 pub mod camera;
 pub mod cli;
 pub mod distance;
+pub mod halls;
 pub mod material;
 pub mod medium;
+pub mod pbrt_lights;
 pub mod render;
 pub mod scenes;
 pub mod texture;

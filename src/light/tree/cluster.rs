@@ -1,13 +1,13 @@
-//! What the tree knows of a set of lights ([`Cluster`]): their box, their power and the cone
-//! of their normals; the importance, a bound on the light they can send to a point (Conty
-//! Estevez and Kulla 2018), and whether they lie wholly below a surface's horizon.
+//! What the tree knows of a set of lights ([`Cluster`]): their box, their power, the cone of
+//! their normals and their exitance; the importance, an estimate of the light they can send
+//! to a point (Conty Estevez and Kulla 2018).
 
 use core::f64::consts::PI;
 
 use glam::DVec3;
 
 use super::Emission;
-use crate::math::{atan2, gamma, length, sin_cos, sqrt};
+use crate::math::{atan2, length, sin_cos, sqrt};
 use crate::sample::direction_of;
 use crate::{Aabb, GeometryError};
 
@@ -25,6 +25,13 @@ pub(super) struct Cluster {
     pub(super) sin_spread: f64,
     /// Whether a light emits on both sides of its normal.
     pub(super) two_sided: bool,
+    /// The sum of the lights' exitances (each one's power over the area its box allows
+    /// it, per side): a bound on the irradiance the lights can send to any point.
+    pub(super) exitance: f64,
+    /// The least squared distance the importance divides by: `power / (PI exitance)`
+    /// (see [`Cluster::importance`]), or the bounding sphere's squared radius where that
+    /// is not a number.
+    pub(super) near2: f64,
 }
 
 /// `a / (a + b)`, the share of the first of two non-negative weights, where it is a
@@ -95,7 +102,18 @@ impl Cluster {
             Emission::OneSide(normal) => (emission_normal(normal)?, 0.0, false),
             Emission::BothSides(normal) => (emission_normal(normal)?, 0.0, true),
         };
-        Ok(Self::with_spread(bbox, power, axis, spread, two_sided))
+        // A flat light's area is at most `|(e_y e_z, e_z e_x, e_x e_y)|` for its box's
+        // extents `e` (its projections on the axes' planes fit in the box's faces), found
+        // scaled by the largest extent so that it overflows only past `f64::MAX`.
+        let e = bbox.max() - bbox.min();
+        let m = e.max_element();
+        let f = e / m;
+        let area = m * m * sqrt((f.x * f.y).powi(2) + (f.y * f.z).powi(2) + (f.z * f.x).powi(2));
+        let sides = if two_sided { 2.0 } else { 1.0 };
+        let exitance = power / (sides * area);
+        Ok(Self::with_spread(
+            bbox, power, axis, spread, two_sided, exitance,
+        ))
     }
 
     pub(super) fn with_spread(
@@ -104,6 +122,7 @@ impl Cluster {
         axis: DVec3,
         spread: f64,
         two_sided: bool,
+        exitance: f64,
     ) -> Self {
         let (sin_spread, cos_spread) = sin_cos(spread);
         Self {
@@ -114,6 +133,8 @@ impl Cluster {
             cos_spread,
             sin_spread: sin_spread.max(0.0),
             two_sided,
+            exitance,
+            near2: near2(bbox, power, exitance),
         }
     }
 
@@ -129,6 +150,7 @@ impl Cluster {
             (true, true) => (other, self),
         };
         let two_sided = a.two_sided || b.two_sided;
+        let exitance = self.exitance + other.exitance;
         // `b`'s cone inside `a`'s (the wider): the angle between their axes at most the
         // difference of their spreads, compared by cosines, without a trigonometric call
         // (the common case: lights of one normal, and a cone grown to every direction).
@@ -138,6 +160,8 @@ impl Cluster {
             bbox,
             power,
             two_sided,
+            exitance,
+            near2: near2(bbox, power, exitance),
             ..*a
         };
         if a.spread >= PI || cos_between >= cos_difference {
@@ -156,29 +180,93 @@ impl Cluster {
                 // a.spread`.
                 let (sin, cos) = sin_cos(spread - a.spread);
                 let axis = (a.axis * cos + k.cross(a.axis) * sin).normalize();
-                Self::with_spread(bbox, power, axis, spread, two_sided)
+                Self::with_spread(bbox, power, axis, spread, two_sided, exitance)
             }
-            _ => Self::with_spread(bbox, power, a.axis, PI, two_sided),
+            _ => Self::with_spread(bbox, power, a.axis, PI, two_sided, exitance),
         }
     }
 
-    /// A bound on the light the cluster sends to `p` (on a surface facing `normal`, where
-    /// given): its power over the squared distance to its centre (no nearer than its
-    /// radius), times the cosine of the least angle at which any of its lights can face
-    /// `p`, and times the cosine of the least angle between `normal` and any direction
-    /// into the cluster's box; 0 where the first passes 90 degrees (every light faces
-    /// away) or the second does (the box lies below the horizon).
+    /// An estimate of the light the cluster sends to `p` (on a surface whose normal's line
+    /// is `normal`, where given), after Conty Estevez and Kulla 2018 and pbrt-v4's
+    /// `LightBounds::Importance`: its power over the squared distance to its centre, times
+    /// a bound on the cosine at which any of its lights can face `p` (0 where every light
+    /// faces away), and times a bound on the cosine between the normal's line and any
+    /// direction into the cluster (light from either side counts).
+    ///
+    /// The cosines are bounded by the box itself where every light shares one normal (a
+    /// component along a unit vector of a direction from `p` into the box is at most the
+    /// box's greatest extent along it from `p` over the distance to the box: tight from
+    /// far, where the bounding sphere is loose), and by the bounding sphere otherwise (a
+    /// tight bound on the surface's cosine beside a loose one on the lights' lets clusters
+    /// whose lights face the point least win: measured on the halls of `--halls`, the
+    /// variance of the choice with lamps seen edge on rose by half).
+    ///
+    /// The squared distance is clamped below where power over it would pass `PI` times the
+    /// sum of the lights' exitances: no diffuse light sends a point more irradiance than its
+    /// exitance (its radiance times `PI`), and `power / (PI d^2)` is the irradiance of the
+    /// power at a point `d` away, so the clamp is what the cluster can deliver at all. It
+    /// scales with the square of the unit of length, as `d^2` does, so that the choices do
+    /// not depend on the unit (pbrt-v4 clamps `d^2` at half the box's diagonal, a length).
     pub(super) fn importance(&self, p: DVec3, normal: Option<DVec3>) -> f64 {
         if self.power == 0.0 {
             return 0.0;
         }
         let (min, max) = (self.bbox.min(), self.bbox.max());
-        let centre = 0.5 * min + 0.5 * max;
-        let radius2 = (0.5 * max - 0.5 * min).length_squared();
-        let from_centre = p - centre;
+        let from_centre = p - (0.5 * min + 0.5 * max);
         let d2 = from_centre.length_squared();
-        // The cone of directions from `p` into the box's bounding sphere (which holds the
-        // box): all of them from inside it.
+        let (least, seen) = if self.spread == 0.0 {
+            self.box_cosines(p, normal)
+        } else {
+            self.sphere_cosines(from_centre, d2, normal)
+        };
+        // Diffuse emitters send nothing at 90 degrees from their normal and beyond.
+        if least <= 0.0 {
+            return 0.0;
+        }
+        let importance = self.power * least * seen / d2.max(self.near2);
+        if importance.is_nan() { 0.0 } else { importance }
+    }
+
+    /// [`Cluster::importance`]'s two cosines by the box, for lights of one normal: 1 from
+    /// inside the box.
+    #[inline]
+    fn box_cosines(&self, p: DVec3, normal: Option<DVec3>) -> (f64, f64) {
+        let (min, max) = (self.bbox.min(), self.bbox.max());
+        let outside = (p - p.clamp(min, max)).length_squared();
+        if outside <= 0.0 {
+            return (1.0, 1.0);
+        }
+        let over_distance = 1.0 / sqrt(outside);
+        // How far the box reaches from `p` along `v`, and against it.
+        let reach = |v: DVec3| {
+            let positive = v.cmpge(DVec3::ZERO);
+            let at = v.dot(p);
+            (
+                v.dot(DVec3::select(positive, max, min)) - at,
+                at - v.dot(DVec3::select(positive, min, max)),
+            )
+        };
+        let (ahead, behind) = reach(self.axis);
+        // Toward `p` is against the normal from the box.
+        let toward = if self.two_sided {
+            ahead.max(behind)
+        } else {
+            behind
+        };
+        let least = (toward.max(0.0) * over_distance).min(1.0);
+        let seen = normal.map_or(1.0, |n| {
+            let (ahead, behind) = reach(n);
+            (ahead.max(behind) * over_distance).min(1.0)
+        });
+        (least, seen)
+    }
+
+    /// [`Cluster::importance`]'s two cosines by the box's bounding sphere (any direction
+    /// from inside it), `from_centre` being `p` less the box's centre and `d2` its square.
+    #[inline]
+    fn sphere_cosines(&self, from_centre: DVec3, d2: f64, normal: Option<DVec3>) -> (f64, f64) {
+        let (min, max) = (self.bbox.min(), self.bbox.max());
+        let radius2 = (0.5 * max - 0.5 * min).length_squared();
         let (cos_box, sin_box) = if d2 <= radius2 {
             (-1.0, 0.0)
         } else {
@@ -197,39 +285,24 @@ impl Cluster {
         }
         let spread = (self.cos_spread, self.sin_spread);
         let (cos_x, sin_x) = minus_clamped(cos_normal, || sine(cos_normal), spread);
-        let least = minus_clamped(cos_x, || sin_x, (cos_box, sin_box));
-        // Diffuse emitters send nothing at 90 degrees from their normal and beyond.
-        if least.0 <= 0.0 {
-            return 0.0;
-        }
-        let mut importance = self.power * least.0 / d2.max(radius2);
-        if let Some(n) = normal {
-            // Below the horizon by the box itself: its bounding sphere can reach above the
-            // horizon where no light does.
-            if self.below(p, n) {
-                return 0.0;
-            }
-            // The bound on the cosine by the sphere; where rounding puts even the sphere
-            // below while the box is not, no bound.
-            let cos_in = (-toward_p).dot(n);
-            let (cos_seen, _) = minus_clamped(cos_in, || sine(cos_in), (cos_box, sin_box));
-            if cos_seen > 0.0 {
-                importance *= cos_seen;
-            }
-        }
-        if importance.is_nan() { 0.0 } else { importance }
+        let least = minus_clamped(cos_x, || sin_x, (cos_box, sin_box)).0;
+        let seen = normal.map_or(1.0, |n| {
+            let cos_in = toward_p.dot(n).abs();
+            minus_clamped(cos_in, || sine(cos_in), (cos_box, sin_box))
+                .0
+                .max(0.0)
+        });
+        (least, seen)
     }
+}
 
-    /// Whether the box lies wholly below the horizon of a surface at `p` facing `n` (unit):
-    /// its corner farthest along `n` lies below the plane through `p`, by more than the
-    /// rounding of the test (the difference, the products and the sums: `gamma(4)` of the
-    /// terms' magnitudes) and of `n`'s normalization (a tilt of a few ulps, `gamma(4)` of
-    /// the distance again), so that a box touching or crossing the plane never counts.
-    #[inline]
-    pub(super) fn below(&self, p: DVec3, n: DVec3) -> bool {
-        let corner = DVec3::select(n.cmpge(DVec3::ZERO), self.bbox.max(), self.bbox.min());
-        let rel = corner - p;
-        n.dot(rel) < -gamma(8) * rel.abs().element_sum()
+/// [`Cluster::near2`] of lights in `bbox` of `power` and summed `exitance`.
+fn near2(bbox: Aabb, power: f64, exitance: f64) -> f64 {
+    let near2 = power / (PI * exitance);
+    if near2.is_finite() {
+        near2
+    } else {
+        (0.5 * bbox.max() - 0.5 * bbox.min()).length_squared()
     }
 }
 

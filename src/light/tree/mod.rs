@@ -48,9 +48,11 @@ pub enum Emission {
 /// of the nodes its ray meets and a walk up from each light it reaches, where a
 /// `Mixture`'s density visits every light.
 ///
-/// [`PdfHittable::sample_light`] from a [`ShadingContext`] with a normal picks no light
-/// whose box lies wholly below the surface's horizon. As a [`Hittable`], the tree is the
-/// list of its lights (the closest hit; ties go to the earlier light).
+/// [`PdfHittable::sample_light`] from a [`ShadingContext`] with a normal weighs each
+/// cluster by the cosine at the surface too, on either side of it (as pbrt-v4 does): a
+/// light behind the surface is picked as a light in front of it would be, so a normal
+/// facing either way gives light. As a [`Hittable`], the tree is the list of its lights
+/// (the closest hit; ties go to the earlier light).
 ///
 /// ```
 /// use hitkit::glam::{DVec2, DVec3};
@@ -325,10 +327,9 @@ impl<T: PdfHittable> PdfHittable for LightTree<T> {
     }
 
     /// As [`sample_direction`](PdfHittable::sample_direction), with the context's normal:
-    /// no light whose box lies wholly below the horizon of the surface is picked (none
-    /// there can light the side the normal faces). Where every light the walk can still
-    /// reach lies below it, `None`; the probabilities of the lights then sum to less than
-    /// 1 by that chance, which [`light_pdf`](PdfHittable::light_pdf) accounts for.
+    /// each choice weighs the cosine at the surface too, in absolute value (the normal's
+    /// side does not matter). `None` only for an empty tree or a point that is not
+    /// finite.
     fn sample_light(&self, at: &ShadingContext, u: DVec2) -> Option<LightSample> {
         self.sample_light_at(at, u)
     }
@@ -421,8 +422,8 @@ mod tests {
         /// The walk's probabilities, found light by light from the leaf up, are a
         /// distribution over the lights of power (each in `[0, 1]`, summing to 1 within
         /// the rounding of the sum: each probability is a product of at most `depth`
-        /// shares, each within an ulp, and the sum of `n` terms adds `n` more; with a
-        /// normal, to at most 1, the rest being the chance of no light), and a stratified
+        /// shares, each within an ulp, and the sum of `n` terms adds `n` more, with a
+        /// normal as without), and a stratified
         /// walk from the root lands on each light as often as that says: each light takes
         /// one interval of `x`, so `N` evenly spaced `x` land on it its probability times
         /// `N`, within one (and the rounding).
@@ -438,12 +439,7 @@ mod tests {
             let sum: f64 = p.iter().sum();
             let depth = 2 * specs.len();
             let rounding = (depth + specs.len()) as f64 * f64::EPSILON;
-            // With a normal, the walk may end without a light (where every light it can
-            // still reach lies below the horizon): then the sum is less than 1.
-            prop_assert!(sum <= 1.0 + rounding, "sum {}", sum);
-            if normal.is_none() {
-                prop_assert!((sum - 1.0).abs() <= rounding, "sum {}", sum);
-            }
+            prop_assert!((sum - 1.0).abs() <= rounding, "sum {}", sum);
             for (i, &pi) in p.iter().enumerate() {
                 prop_assert!((0.0..=1.0).contains(&pi));
                 if specs[i].4 == 0.0 {
@@ -453,28 +449,24 @@ mod tests {
             let at = ShadingContext { point: origin, normal };
             let normal = at.unit_normal();
             const N: usize = 4096;
-            let (mut counts, mut none) = (alloc::vec![0usize; specs.len()], 0usize);
+            let mut counts = alloc::vec![0usize; specs.len()];
             for k in 0..N {
-                match tree.pick_at(origin, normal, (k as f64 + 0.5) / N as f64) {
-                    Some((i, rest, walked)) => {
-                        prop_assert!((0.0..1.0).contains(&rest));
-                        // The walk's own product is the one found from the leaf up.
-                        prop_assert_eq!(walked.probability(), tree.probability(&at, i));
-                        counts[i] += 1;
-                    }
-                    None => none += 1,
+                let picked = tree.pick_at(origin, normal, (k as f64 + 0.5) / N as f64);
+                // The walk always ends on a light.
+                prop_assert!(picked.is_some());
+                if let Some((i, rest, _, probability)) = picked {
+                    prop_assert!((0.0..1.0).contains(&rest));
+                    // The walk's own product is the one found from the leaf up.
+                    prop_assert_eq!(probability, tree.probability(&at, i));
+                    counts[i] += 1;
                 }
             }
-            // Each light, and no light, takes intervals of `x`: one per dead end of the
-            // walk for no light, so its count may be off by one for each.
+            // Each light takes one interval of `x`.
             for (i, &count) in counts.iter().enumerate() {
                 let expected = p[i] * N as f64;
                 prop_assert!((count as f64 - expected).abs() <= 1.0 + 1e-9 * N as f64,
                     "light {}: {} picks, expected {}", i, count, expected);
             }
-            let expected = (1.0 - sum) * N as f64;
-            prop_assert!((none as f64 - expected).abs() <= specs.len() as f64 + 1e-9 * N as f64,
-                "no light: {} picks, expected {}", none, expected);
         }
 
         /// The density of a sampled direction is the sum, over every light, of its
@@ -499,7 +491,7 @@ mod tests {
             prop_assert!((pdf - loop_sum).abs() <= rounding * loop_sum, "{} against {}", pdf, loop_sum);
             // A light that can be reached from here gets a density: the sampled direction
             // reaches the light it was drawn toward.
-            if let Some((i, _, _)) = tree.pick_at(origin, normal.and_then(DVec3::try_normalize), u[0])
+            if let Some((i, ..)) = tree.pick_at(origin, normal.and_then(DVec3::try_normalize), u[0])
                 && tree.lights()[i].pdf_value(origin, d) > 0.0
             {
                 prop_assert!(pdf > 0.0);
@@ -523,7 +515,7 @@ mod tests {
 
         /// The importance is a bound: where it is 0 for a cluster of lights (one to three,
         /// merged as the build merges them), no point of any of them sends light toward
-        /// `p` from its emitting side onto the side `p`'s normal faces (checked by brute
+        /// `p` from its emitting side onto either side of `p`'s surface (checked by brute
         /// force on a grid of points of each panel, a margin of 1e-9 in the cosines for
         /// rounding). A light the walk could never pick must be one that cannot light `p`.
         #[test]
@@ -569,7 +561,7 @@ mod tests {
                             Emission::OneSide(m) => m.normalize().dot(toward_p) > 1e-9,
                             Emission::BothSides(m) => m.normalize().dot(toward_p).abs() > 1e-9,
                         };
-                        let received = normal.is_none_or(|n| n.dot(-toward_p) > 1e-9);
+                        let received = normal.is_none_or(|n| n.dot(toward_p).abs() > 1e-9);
                         prop_assert!(!(emits && received), "{q} lights {p} though the importance is 0");
                     }
                 }

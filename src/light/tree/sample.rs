@@ -3,7 +3,7 @@
 
 use glam::{DVec2, DVec3};
 
-use super::cluster::{Cluster, share};
+use super::cluster::share;
 use super::{LightTree, MAX_DEPTH, NONE};
 use crate::{Interval, PdfHittable, Ray};
 use crate::{LightSample, ShadingContext};
@@ -11,9 +11,7 @@ use crate::{LightSample, ShadingContext};
 impl<T: PdfHittable> LightTree<T> {
     /// The light the walk picks from `at` with `u` in `[0, 1)`, with its probability (the
     /// same, bit for bit, as [`LightTree::probability`]) and what is left of `u`; `None`
-    /// for an empty tree, a point that is not finite, or where every light the walk can
-    /// reach lies below the horizon of `at`'s surface (see
-    /// [`sample_light`](PdfHittable::sample_light)).
+    /// for an empty tree or a point that is not finite.
     ///
     /// ```
     /// use hitkit::glam::{DVec2, DVec3};
@@ -43,10 +41,10 @@ impl<T: PdfHittable> LightTree<T> {
         if !origin.is_finite() {
             return None;
         }
-        let (light, rest, walked) = LightTree::pick_at(self, origin, normal, u)?;
+        let (light, rest, _, probability) = LightTree::pick_at(self, origin, normal, u)?;
         Some(crate::LightPick {
             light,
-            probability: walked.probability(),
+            probability,
             rest,
         })
     }
@@ -59,47 +57,35 @@ impl<T: PdfHittable> LightTree<T> {
     #[must_use]
     pub fn probability(&self, at: &ShadingContext, i: usize) -> f64 {
         let (origin, normal) = (at.point, at.unit_normal());
-        if !origin.is_finite() || self.hidden(origin, normal) {
+        if !origin.is_finite() {
             return 0.0;
         }
         self.reaching(self.leaves[i] as usize, origin, normal)
     }
 
-    /// Whether every light lies wholly below the horizon of a surface at `origin` facing
-    /// `normal` (the root's box does): then nothing is picked.
-    #[inline]
-    pub(super) fn hidden(&self, origin: DVec3, normal: Option<DVec3>) -> bool {
-        normal.is_some_and(|n| {
-            self.nodes
-                .first()
-                .is_some_and(|root| root.cluster.below(origin, n))
-        })
-    }
-
-    /// The probability that the walk reaches node `n` (given that the tree is not
-    /// [`hidden`](LightTree::hidden)): the product of the choices on the way down to it,
-    /// found on the way up.
+    /// The probability that the walk reaches node `n`: the product of the choices on the
+    /// way down to it, found on the way up and multiplied root first, as the walk down
+    /// multiplies them (so that the two agree bit for bit).
     pub(super) fn reaching(&self, mut n: usize, origin: DVec3, normal: Option<DVec3>) -> f64 {
-        let mut p = 1.0;
+        let mut choices = [0.0; MAX_DEPTH];
+        let mut depth = 0;
         while let Some(&parent) = self.parents.get(n).filter(|&&p| p != NONE) {
             let parent = parent as usize;
             let Some(left) = self.left_probability(parent, origin, normal) else {
                 return 0.0;
             };
-            p *= if n == parent + 1 { left } else { 1.0 - left };
+            choices[depth] = if n == parent + 1 { left } else { 1.0 - left };
+            depth += 1;
             n = parent;
         }
-        p
+        choices[..depth].iter().rev().fold(1.0, |p, &c| p * c)
     }
 
     /// The probability that the walk at inner node `n` goes to its first child; `None`
     /// where it can go to neither (see [`PdfHittable::sample_light`]).
     ///
     /// By importance; where both children's is 0 (every light faces away from the point,
-    /// or is too dim to count), by power, among the children not wholly below the
-    /// horizon. Where both are (the parent's box reached above the horizon, its children's
-    /// do not), the walk ends without a light, as pbrt-v4's `BVHLightSampler` does: so a
-    /// light below the horizon is never picked.
+    /// or is too dim to count), by power.
     #[inline]
     pub(super) fn left_probability(
         &self,
@@ -111,50 +97,42 @@ impl<T: PdfHittable> LightTree<T> {
             &self.nodes[n + 1].cluster,
             &self.nodes[self.nodes[n].index as usize].cluster,
         );
-        share(a.importance(origin, normal), b.importance(origin, normal)).or_else(|| {
-            let seen = |c: &Cluster| {
-                if normal.is_some_and(|m| c.below(origin, m)) {
-                    0.0
-                } else {
-                    c.power
-                }
-            };
-            share(seen(a), seen(b))
-        })
+        share(a.importance(origin, normal), b.importance(origin, normal))
+            .or_else(|| share(a.power, b.power))
     }
 
     /// The walk from the root: the light `x` in `[0, 1)` picks, what is left of `x`,
-    /// rescaled to `[0, 1)`, and the choices made; `None` for an empty tree, and where the
-    /// walk picks no light (see [`LightTree::left_probability`]).
+    /// rescaled to `[0, 1)`, its leaf and its probability (the choices multiplied root
+    /// first); `None` for an empty tree, and where the walk picks no light (see
+    /// [`LightTree::left_probability`]).
     pub(super) fn pick_at(
         &self,
         origin: DVec3,
         normal: Option<DVec3>,
         x: f64,
-    ) -> Option<(usize, f64, Walked)> {
-        if self.nodes.is_empty() || self.hidden(origin, normal) {
+    ) -> Option<(usize, f64, usize, f64)> {
+        if self.nodes.is_empty() {
             return None;
         }
         // Into [0, 1) (NaN to 0); each choice rescales what is left of it to [0, 1).
         let below_one = 1.0 - f64::EPSILON / 2.0;
         let mut x = if x > 0.0 { x.min(below_one) } else { 0.0 };
         let mut n = 0;
-        let mut walked = Walked::default();
+        let mut p = 1.0;
         while !self.nodes[n].leaf {
             let left = self.left_probability(n, origin, normal)?;
             if x < left {
                 x /= left;
                 n += 1;
-                walked.push(left);
+                p *= left;
             } else {
                 x = (x - left) / (1.0 - left);
                 n = self.nodes[n].index as usize;
-                walked.push(1.0 - left);
+                p *= 1.0 - left;
             }
             x = x.clamp(0.0, below_one);
         }
-        walked.leaf = n;
-        Some((self.nodes[n].index as usize, x, walked))
+        Some((self.nodes[n].index as usize, x, n, p))
     }
 
     pub(super) fn sample(&self, origin: DVec3, normal: Option<DVec3>, u: DVec2) -> DVec3 {
@@ -162,7 +140,7 @@ impl<T: PdfHittable> LightTree<T> {
             return DVec3::ZERO;
         }
         self.pick_at(origin, normal, u.x)
-            .map_or(DVec3::ZERO, |(i, x, _)| {
+            .map_or(DVec3::ZERO, |(i, x, ..)| {
                 self.lights[i].sample_direction(origin, DVec2::new(x, u.y))
             })
     }
@@ -175,9 +153,9 @@ impl<T: PdfHittable> LightTree<T> {
         if !origin.is_finite() {
             return None;
         }
-        let (i, x, walked) = self.pick_at(origin, normal, u.x)?;
+        let (i, x, leaf, p) = self.pick_at(origin, normal, u.x)?;
         let direction = self.lights[i].sample_direction(origin, DVec2::new(x, u.y));
-        let known = (walked.leaf, walked.probability());
+        let known = (leaf, p);
         LightSample::along_with(self, at, direction, |d| {
             self.density_with(origin, normal, d, Some(known))
         })
@@ -197,7 +175,7 @@ impl<T: PdfHittable> LightTree<T> {
         known: Option<(usize, f64)>,
     ) -> f64 {
         let ray = Ray::new(origin, direction);
-        if self.nodes.is_empty() || !ray.is_valid() || self.hidden(origin, normal) {
+        if self.nodes.is_empty() || !ray.is_valid() {
             return 0.0;
         }
         if let [only] = self.lights.as_slice() {
@@ -233,39 +211,5 @@ impl<T: PdfHittable> LightTree<T> {
             top += 2;
         }
         sum
-    }
-}
-
-/// The choices of a walk down the tree, root first, and the leaf it reached.
-pub(super) struct Walked {
-    choices: [f64; MAX_DEPTH],
-    depth: usize,
-    leaf: usize,
-}
-
-impl Default for Walked {
-    fn default() -> Self {
-        Self {
-            choices: [1.0; MAX_DEPTH],
-            depth: 0,
-            leaf: 0,
-        }
-    }
-}
-
-impl Walked {
-    #[inline]
-    fn push(&mut self, p: f64) {
-        self.choices[self.depth] = p;
-        self.depth += 1;
-    }
-
-    /// The product of the choices, leaf first, as [`LightTree::reaching`] multiplies them.
-    #[inline]
-    pub(super) fn probability(&self) -> f64 {
-        self.choices[..self.depth]
-            .iter()
-            .rev()
-            .fold(1.0, |p, &c| p * c)
     }
 }

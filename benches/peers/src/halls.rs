@@ -1,0 +1,247 @@
+//! `--halls`: the light tree against pbrt-v4's BVH light sampler (written from the book, in
+//! `hitkit_render::pbrt_lights`) and the power mixture, on halls of many lamps seen from
+//! the floor: the variance of each sampler's choice of lamp across units of length, and
+//! the relative mean squared error times time of next-event estimation of the floor's
+//! irradiance.
+
+use std::hint::black_box;
+use std::time::Instant;
+
+use hitkit::glam::DVec2;
+use hitkit::{Hittable, LightTree, Mixture, PdfHittable, Quad, ShadingContext};
+use hitkit_render::halls::{self, Hall, Lamps, choice_variance};
+use hitkit_render::pbrt_lights::PbrtLightBvh;
+use hitkit_render::workloads::{self, SplitMix};
+
+use super::Args;
+
+/// Lamp counts.
+const COUNTS: [usize; 2] = [1_000, 10_000];
+/// Units of length the halls are measured in.
+const SCALES: [f64; 5] = [0.01, 0.1, 1.0, 10.0, 100.0];
+/// Floor points for the choice's variance (each asks every lamp's probability).
+const VARIANCE_POINTS: usize = 200;
+/// Floor points for the error of the estimates, and samples per point.
+const ESTIMATE_POINTS: usize = 2_000;
+const SPP: [usize; 2] = [16, 64];
+
+fn pbrt(lamps: &Lamps) -> PbrtLightBvh {
+    let boxes: Vec<_> = lamps
+        .quads
+        .iter()
+        .map(|q| {
+            let b = q.bounding_box();
+            (b.min(), b.max())
+        })
+        .collect();
+    PbrtLightBvh::new(&boxes, &lamps.powers, &lamps.normals)
+}
+
+fn tree(lamps: &Lamps) -> LightTree<Quad> {
+    LightTree::new(lamps.quads.clone(), &lamps.powers, &lamps.emission).expect("valid lamps")
+}
+
+/// The mean of the choice's variance over the floor points.
+fn mean_variance(
+    lamps: &Lamps,
+    points: &[ShadingContext],
+    p: impl Fn(&ShadingContext, usize) -> f64,
+) -> f64 {
+    let v: Vec<f64> = points
+        .iter()
+        .filter_map(|at| choice_variance(lamps, at, |i| p(at, i)))
+        .collect();
+    v.iter().sum::<f64>() / v.len() as f64
+}
+
+/// One row per hall and count: the choice's variance of the tree at every scale, then
+/// pbrt's at every scale.
+pub(super) fn variance_rows(args: &Args) -> Vec<String> {
+    let mut rows = Vec::new();
+    for hall in Hall::ALL {
+        for n in COUNTS {
+            let mut tree_row = Vec::new();
+            let mut pbrt_row = Vec::new();
+            for scale in SCALES {
+                let lamps = halls::lamps(hall, n, scale, args.seed);
+                let points = halls::floor_points(VARIANCE_POINTS, scale, args.seed);
+                let t = tree(&lamps);
+                let b = pbrt(&lamps);
+                tree_row.push(mean_variance(&lamps, &points, |at, i| t.probability(at, i)));
+                pbrt_row.push(mean_variance(&lamps, &points, |at, i| b.probability(at, i)));
+            }
+            let cells = |r: &[f64]| {
+                r.iter()
+                    .map(|v| format!("{v:.3}"))
+                    .collect::<Vec<_>>()
+                    .join(" | ")
+            };
+            rows.push(format!(
+                "| {} | {n} | light tree | {} |",
+                hall.name(),
+                cells(&tree_row)
+            ));
+            rows.push(format!(
+                "| {} | {n} | pbrt-v4 BVH | {} |",
+                hall.name(),
+                cells(&pbrt_row)
+            ));
+        }
+    }
+    rows
+}
+
+/// The floor's irradiance at `at` by next-event estimation: `spp` samples, each a light
+/// picked by `pick` (its index, probability and the rest of `u`), a point on it sampled by
+/// its own density, and the lamp's radiance times the cosine at the floor over both.
+fn estimate(
+    lamps: &Lamps,
+    at: &ShadingContext,
+    spp: usize,
+    rng: &mut SplitMix,
+    pick: impl Fn(f64) -> Option<(usize, f64, f64)>,
+) -> f64 {
+    let n = at.normal.expect("a floor point");
+    let mut sum = 0.0;
+    for _ in 0..spp {
+        let (u, v) = (rng.next_f64(), rng.next_f64());
+        let Some((i, p, rest)) = pick(u) else {
+            continue;
+        };
+        let Some(s) = lamps.quads[i].sample_light(at, DVec2::new(rest, v)) else {
+            continue;
+        };
+        // One-sided lamps: light only where the sample sees the lamp's front.
+        let cos_light = -s.direction.dot(lamps.normals[i]);
+        let cos = s.direction.dot(n);
+        if cos_light > 0.0 && cos > 0.0 && s.pdf > 0.0 {
+            sum += lamps.radiance(i) * cos / (p * s.pdf);
+        }
+    }
+    sum / spp as f64
+}
+
+/// The relative mean squared error of the estimates over the floor points, the seconds
+/// they took, and their product.
+fn error_and_time(
+    lamps: &Lamps,
+    points: &[ShadingContext],
+    exact: &[f64],
+    spp: usize,
+    seed: u64,
+    pick: impl Fn(&ShadingContext, f64) -> Option<(usize, f64, f64)>,
+) -> (f64, f64) {
+    let mut rng = SplitMix::new(seed);
+    let start = Instant::now();
+    let estimates: Vec<f64> = points
+        .iter()
+        .map(|at| black_box(estimate(lamps, at, spp, &mut rng, |u| pick(at, u))))
+        .collect();
+    let seconds = start.elapsed().as_secs_f64();
+    let mse = estimates
+        .iter()
+        .zip(exact)
+        .map(|(e, x)| ((e - x) / x).powi(2))
+        .sum::<f64>()
+        / points.len() as f64;
+    (mse, seconds)
+}
+
+/// One row per hall, count, spp and sampler: relative MSE, seconds, their product, and the
+/// product over pbrt's (each sampler's time the median of `args.runs`, in alternation).
+pub(super) fn estimate_rows(args: &Args) -> Vec<String> {
+    let mut rows = Vec::new();
+    for hall in Hall::ALL {
+        for n in COUNTS {
+            let lamps = halls::lamps(hall, n, 1.0, args.seed);
+            let points = halls::floor_points(ESTIMATE_POINTS, 1.0, args.seed);
+            let exact: Vec<f64> = points
+                .iter()
+                .map(|at| {
+                    (0..lamps.quads.len())
+                        .map(|i| halls::irradiance(&lamps, i, at))
+                        .sum()
+                })
+                .collect();
+            let t = tree(&lamps);
+            let b = pbrt(&lamps);
+            let mixture = Mixture::new(lamps.quads.clone(), &lamps.powers).expect("powers");
+            for spp in SPP {
+                let mut results: [Vec<(f64, f64)>; 3] = Default::default();
+                for run in 0..args.runs {
+                    let seed = args.seed.wrapping_add(run as u64);
+                    results[0].push(error_and_time(
+                        &lamps,
+                        &points,
+                        &exact,
+                        spp,
+                        seed,
+                        |at, u| t.pick(at, u).map(|p| (p.light, p.probability, p.rest)),
+                    ));
+                    results[1].push(error_and_time(
+                        &lamps,
+                        &points,
+                        &exact,
+                        spp,
+                        seed,
+                        |at, u| b.pick(at, u),
+                    ));
+                    results[2].push(error_and_time(
+                        &lamps,
+                        &points,
+                        &exact,
+                        spp,
+                        seed,
+                        |_, u| mixture.pick(u).map(|p| (p.light, p.probability, p.rest)),
+                    ));
+                }
+                let summary: Vec<(f64, f64)> = results
+                    .iter()
+                    .map(|r| {
+                        let mut times: Vec<f64> = r.iter().map(|x| x.1).collect();
+                        times.sort_by(f64::total_cmp);
+                        let mse = r.iter().map(|x| x.0).sum::<f64>() / r.len() as f64;
+                        (mse, times[times.len() / 2])
+                    })
+                    .collect();
+                let anchor = summary[1].0 * summary[1].1;
+                for (name, (mse, secs)) in
+                    ["light tree, pick", "pbrt-v4 BVH", "power mixture, pick"]
+                        .iter()
+                        .zip(&summary)
+                {
+                    rows.push(format!(
+                        "| {} | {n} | {spp} | {name} | {mse:.4} | {:.1} | {:.3} | {:.2}x |",
+                        hall.name(),
+                        secs * 1e3,
+                        mse * secs * 1e3,
+                        mse * secs / anchor
+                    ));
+                }
+            }
+        }
+    }
+    rows
+}
+
+/// Prints both tables.
+pub(super) fn print(args: &Args) {
+    println!(
+        "{}; single-threaded; seed {:#x}\n",
+        workloads::machine(),
+        args.seed
+    );
+    println!(
+        "Variance of the choice of lamp (`sum f_i^2 / p_i / F^2 - 1`, mean over {VARIANCE_POINTS} floor points), every length times the scale:\n"
+    );
+    println!("| hall | lamps | sampler | 0.01 | 0.1 | 1 | 10 | 100 |");
+    println!("|---|---:|---|---:|---:|---:|---:|---:|");
+    variance_rows(args).iter().for_each(|r| println!("{r}"));
+    println!(
+        "\nNext-event estimation of the irradiance at {ESTIMATE_POINTS} floor points (scale 1, no occluders): relative MSE (mean of {} runs), ms (median), their product, and the product over pbrt-v4's:\n",
+        args.runs
+    );
+    println!("| hall | lamps | spp | sampler | rel. MSE | ms | MSE x ms | vs pbrt-v4 |");
+    println!("|---|---:|---:|---|---:|---:|---:|---:|");
+    estimate_rows(args).iter().for_each(|r| println!("{r}"));
+}
