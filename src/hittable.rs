@@ -8,7 +8,7 @@ use alloc::sync::Arc;
 use glam::{DVec2, DVec3};
 
 use crate::record::{Found, Made};
-use crate::{Aabb, HitRecord, Interval, LightSample, Ray, ShadingContext};
+use crate::{Aabb, Emission, HitRecord, Interval, LightSample, Ray, ShadingContext};
 
 /// Something a ray can hit. Object safe: scenes mix shapes as `Box<dyn Hittable>`.
 ///
@@ -163,6 +163,21 @@ pub trait PdfHittable: Hittable {
     fn light_hit(&self, ray: &Ray, ray_t: Interval) -> Option<(usize, HitRecord)> {
         self.hit(ray, ray_t).map(|hit| (0, hit))
     }
+
+    /// The directions the light emits in, as [`LightTree::from_lights`](crate::LightTree::from_lights)
+    /// takes them where the caller does not say: a light that faces away from a point is
+    /// not picked there.
+    ///
+    /// The provided one is [`Emission::Everywhere`] (never ruled out). A
+    /// [`Quad`](crate::Quad) of any interior emits from the side its normal `u x v` faces,
+    /// as the book's `diffuse_light` emits from front faces only; an instance carries its
+    /// object's side into world space (the inverse transpose, which keeps the front face's
+    /// side under a mirror); pointers and [`Masked`](crate::Masked) forward it. A light
+    /// that shines from both sides is [`Emission::BothSides`], given to
+    /// [`LightTree::new`](crate::LightTree::new).
+    fn emission(&self) -> Emission {
+        Emission::Everywhere
+    }
 }
 
 /// Forwards both traits through a pointer to `T` (`T` is named by the caller).
@@ -215,6 +230,10 @@ macro_rules! forward_through {
             #[inline]
             fn light_hit(&self, ray: &Ray, ray_t: Interval) -> Option<(usize, HitRecord)> {
                 (**self).light_hit(ray, ray_t)
+            }
+            #[inline]
+            fn emission(&self) -> Emission {
+                (**self).emission()
             }
         }
     };

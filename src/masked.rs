@@ -147,4 +147,8 @@ impl<T: PdfHittable> PdfHittable for Masked<T> {
     fn light_hit(&self, ray: &Ray, ray_t: Interval) -> Option<(usize, HitRecord)> {
         self.object.light_hit(ray, ray_t)
     }
+    #[inline]
+    fn emission(&self) -> crate::Emission {
+        self.object.emission()
+    }
 }

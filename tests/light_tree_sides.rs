@@ -5,6 +5,7 @@
 
 use hitkit::glam::{DQuat, DVec2, DVec3};
 use hitkit::{Emission, LightTree, PdfHittable, Quad, ShadingContext, Sphere, TriangleMesh};
+use hitkit_render::workloads::SplitMix;
 use proptest::prelude::*;
 
 /// Whether every corner of a light's box lies strictly below the plane through `p` normal
@@ -218,6 +219,81 @@ fn emitters_of_any_finite_size_make_a_light_tree() {
             assert_eq!(tree.probability(&ShadingContext::at(from), 0), 1.0);
             let d = tree.sample_direction(from, DVec2::new(0.3, 0.4));
             assert!(tree.pdf_value(from, d) > 0.0, "{size:e}");
+        }
+    }
+}
+
+/// A light says which side it emits on (`PdfHittable::emission`): a quad the side of its
+/// normal; an instance its object's side in world space, under rotations, shears, scales
+/// and mirrors alike, checked against the hits it reports (a ray from a point on the
+/// emitting side meets the front face, from the other side the back); a sphere everywhere;
+/// `Masked` and pointers forward it. `LightTree::from_lights` takes these sides: the same
+/// tree, probability for probability, as `LightTree::new` given them.
+#[test]
+fn lights_say_which_side_they_emit_on() {
+    use hitkit::glam::DAffine3;
+    use hitkit::{Hittable, Interval, Masked, Ray, Transformed};
+
+    let quad = Quad::new(DVec3::new(-0.5, 0.0, -0.5), DVec3::X, DVec3::Z).unwrap();
+    assert_eq!(quad.emission(), Emission::OneSide(DVec3::NEG_Y));
+    let bulb = Sphere::new(DVec3::ZERO, 1.0).unwrap();
+    assert_eq!(bulb.emission(), Emission::Everywhere);
+    assert_eq!(Masked::new(quad, 0).emission(), quad.emission());
+    let boxed: Box<dyn PdfHittable> = Box::new(quad);
+    assert_eq!(boxed.emission(), quad.emission());
+
+    let mut rng = SplitMix::new(7);
+    let mut maps = vec![
+        DAffine3::from_scale(DVec3::new(-1.0, 1.0, 1.0)),
+        DAffine3::from_scale(DVec3::new(1.0, -2.0, 0.5)),
+    ];
+    for _ in 0..40 {
+        let m = hitkit::glam::DMat3::from_cols(
+            rng.direction() + DVec3::X,
+            rng.direction() + DVec3::Y,
+            rng.direction() + DVec3::Z,
+        );
+        maps.push(DAffine3::from_mat3_translation(m, rng.direction() * 10.0));
+    }
+    let mut instances = Vec::new();
+    for map in maps {
+        let Ok(lamp) = Transformed::affine(quad, map) else {
+            continue;
+        };
+        let Emission::OneSide(normal) = lamp.emission() else {
+            panic!("{map:?}: not one-sided")
+        };
+        // Square to the quad's edges in world space (the inverse transpose's rounding: a
+        // few ulps of the products, against edges of length about 1).
+        let n = normal.normalize();
+        for edge in [DVec3::X, DVec3::Z] {
+            let e = map.transform_vector3(edge);
+            assert!(n.dot(e).abs() <= 1e-12 * e.length(), "{map:?}");
+        }
+        let centre = map.transform_point3(DVec3::ZERO);
+        for (side, front) in [(1.0, true), (-1.0, false)] {
+            let from = centre + side * normal.normalize();
+            let hit = lamp
+                .hit(&Ray::new(from, centre - from), Interval::FORWARD)
+                .expect("the lamp's centre");
+            assert_eq!(hit.front_face, front, "{map:?}");
+        }
+        instances.push(lamp);
+    }
+    let rigid = Transformed::new(quad, DQuat::from_rotation_x(0.7), DVec3::Y).unwrap();
+    let Emission::OneSide(n) = rigid.emission() else {
+        panic!()
+    };
+    assert!((n - DQuat::from_rotation_x(0.7) * DVec3::NEG_Y).length() < 1e-15);
+
+    let powers: Vec<f64> = (0..instances.len()).map(|i| 1.0 + i as f64).collect();
+    let emission: Vec<Emission> = instances.iter().map(|l| l.emission()).collect();
+    let given = LightTree::new(instances.clone(), &powers, &emission).unwrap();
+    let own = LightTree::from_lights(instances, &powers).unwrap();
+    for _ in 0..20 {
+        let at = ShadingContext::on_surface(rng.direction() * 12.0, rng.direction());
+        for i in 0..powers.len() {
+            assert_eq!(own.probability(&at, i), given.probability(&at, i));
         }
     }
 }

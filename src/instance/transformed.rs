@@ -8,7 +8,7 @@ use crate::instance;
 use crate::math::{direction_scale, gamma, ordinary, sin_cos};
 use crate::record::{Found, Made};
 use crate::sample::{reaching, toward_middle};
-use crate::{Aabb, GeometryError, HitRecord, Hittable, Interval, PdfHittable, Ray};
+use crate::{Aabb, Emission, GeometryError, HitRecord, Hittable, Interval, PdfHittable, Ray};
 
 /// `object` moved: rotated about the origin (or any invertible linear map, see
 /// [`Transformed::affine`]), then translated. Rays are taken into the object's space (`t`
@@ -454,5 +454,26 @@ impl<T: PdfHittable, F: Frame> PdfHittable for Transformed<T, F> {
             })
         })?;
         Some((which.get(), hit))
+    }
+
+    /// The object's emission with its normal in world space: by the inverse transpose
+    /// (`n . M^-1 e_j` for each axis `e_j`), which keeps the side of the front face under a
+    /// mirror as the instance's hits report it; [`Emission::Everywhere`] where that normal
+    /// is not a finite, non-zero vector (a map of extreme condition).
+    fn emission(&self) -> Emission {
+        let to_world = |n: DVec3| {
+            let n = crate::sample::direction_of(n)?;
+            let w = DVec3::new(
+                n.dot(self.frame.to_object(DVec3::X)),
+                n.dot(self.frame.to_object(DVec3::Y)),
+                n.dot(self.frame.to_object(DVec3::Z)),
+            );
+            (w.is_finite() && w != DVec3::ZERO).then_some(w)
+        };
+        match self.object.emission() {
+            Emission::Everywhere => Emission::Everywhere,
+            Emission::OneSide(n) => to_world(n).map_or(Emission::Everywhere, Emission::OneSide),
+            Emission::BothSides(n) => to_world(n).map_or(Emission::Everywhere, Emission::BothSides),
+        }
     }
 }

@@ -346,6 +346,12 @@ impl<S: SampleInterior> Quad<S> {
 /// assert!((square.pdf_value(DVec3::ZERO, up) - 1.0 / 2.0944).abs() < 1e-4);
 /// ```
 impl<S: SampleInterior> PdfHittable for Quad<S> {
+    /// From the side its normal (`u x v`) faces: [`Emission::OneSide`].
+    #[inline]
+    fn emission(&self) -> crate::Emission {
+        crate::Emission::OneSide(self.plane().normal())
+    }
+
     /// `1 / solid angle` where the quad is sampled by solid angle; else
     /// `distance^2 / (|cos| area)`, the area density `1 / area` turned into one over solid
     /// angle at `origin`, where `cos` is between `direction` and the normal. 0 on a miss and

@@ -182,6 +182,37 @@ impl<T: PdfHittable> LightTree<T> {
         })
     }
 
+    /// The tree over `lights`, light `i` of power `powers[i]`, each emitting as it says
+    /// ([`PdfHittable::emission`]: a quad from the side its normal faces, an instance as
+    /// its object in world space, anything else everywhere). [`LightTree::new`] takes the
+    /// sides from the caller instead (a two-sided lamp).
+    ///
+    /// ```
+    /// use hitkit::glam::DVec3;
+    /// use hitkit::{Emission, LightTree, PdfHittable, Quad, ShadingContext};
+    ///
+    /// # fn main() -> Result<(), hitkit::GeometryError> {
+    /// // X x Z = -Y: both panels face down.
+    /// let panels = vec![
+    ///     Quad::new(DVec3::new(0.0, 3.0, 0.0), DVec3::X, DVec3::Z)?,
+    ///     Quad::new(DVec3::new(4.0, 3.0, 0.0), DVec3::X, DVec3::Z)?,
+    /// ];
+    /// assert_eq!(panels[0].emission(), Emission::OneSide(DVec3::NEG_Y));
+    /// let tree = LightTree::from_lights(panels, &[1.0, 1.0])?;
+    /// // From above, every panel faces away: picked by power alone.
+    /// let above = ShadingContext::at(DVec3::new(0.5, 10.0, 0.5));
+    /// assert_eq!(tree.probability(&above, 0), 0.5);
+    /// # Ok(())
+    /// # }
+    /// ```
+    ///
+    /// # Errors
+    /// As [`LightTree::new`].
+    pub fn from_lights(lights: Vec<T>, powers: &[f64]) -> Result<Self, GeometryError> {
+        let emission: Vec<Emission> = lights.iter().map(PdfHittable::emission).collect();
+        Self::new(lights, powers, &emission)
+    }
+
     /// The lights, in the order given.
     #[inline]
     #[must_use]
