@@ -204,12 +204,12 @@ pub use light::RandomDirection;
 #[cfg(feature = "rand09")]
 #[cfg_attr(docsrs, doc(cfg(feature = "rand09")))]
 pub use light::RandomDirection09;
-pub use light::{Emission, LightPick, LightTree, Mixture};
+pub use light::{LightPick, LightTree, Mixture};
 pub use masked::Masked;
 pub use mesh::{Candidate, Face, Filtered, TriangleMesh};
 pub use ray::Ray;
 pub use record::{HitRecord, MaterialId};
-pub use sample::{LightSample, ShadingContext};
+pub use sample::{Emission, LightSample, ShadingContext};
 pub use shape::{
     Cuboid, Disk, Exact, Interior, Parallelogram, Plane, PlaneHit, Quad, Ring, SampleInterior,
     Sampling, Sphere, Triangle,

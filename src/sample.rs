@@ -182,3 +182,17 @@ pub(crate) fn toward_middle(u: DVec2, k: f64) -> DVec2 {
         DVec2::splat(0.5) + (u - DVec2::splat(0.5)) * k
     }
 }
+
+/// The directions a light emits in, for a [`LightTree`](crate::LightTree)'s importance: a light that faces
+/// away from a point is not picked there.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Emission {
+    /// From every point in every direction (a sphere, or a light whose orientation is not
+    /// known): never ruled out by its orientation.
+    Everywhere,
+    /// From the side of a surface that the given normal points to (a one-sided diffuse
+    /// panel): no light behind it.
+    OneSide(DVec3),
+    /// From both sides of a surface normal to the given vector.
+    BothSides(DVec3),
+}

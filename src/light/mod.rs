@@ -42,4 +42,4 @@ pub use random::RandomDirection;
 pub use random::RandomDirection09;
 #[cfg(feature = "gltf")]
 pub(crate) use tree::Emitters;
-pub use tree::{Emission, LightTree};
+pub use tree::LightTree;

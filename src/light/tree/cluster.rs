@@ -80,16 +80,7 @@ pub(super) fn sine(cos: f64) -> f64 {
 impl Cluster {
     /// One light's bounds.
     pub(super) fn of(bbox: Aabb, power: f64, emission: Emission) -> Result<Self, GeometryError> {
-        if !power.is_finite() {
-            return Err(GeometryError::NonFinite { what: "power" });
-        }
-        if power < 0.0 {
-            return Err(GeometryError::InvalidParameter {
-                what: "power",
-                value: power,
-                domain: "[0, infinity)",
-            });
-        }
+        let (axis, spread, two_sided) = checked(power, emission)?;
         if !bbox.is_bounded() || bbox.is_empty() {
             return Err(GeometryError::InvalidParameter {
                 what: "light's bounding box extent",
@@ -97,11 +88,6 @@ impl Cluster {
                 domain: "a bounded, non-empty box",
             });
         }
-        let (axis, spread, two_sided) = match emission {
-            Emission::Everywhere => (DVec3::Z, PI, false),
-            Emission::OneSide(normal) => (emission_normal(normal)?, 0.0, false),
-            Emission::BothSides(normal) => (emission_normal(normal)?, 0.0, true),
-        };
         // A flat light's area is at most `|(e_y e_z, e_z e_x, e_x e_y)|` for its box's
         // extents `e` (its projections on the axes' planes fit in the box's faces), found
         // scaled by the largest extent so that it overflows only past `f64::MAX`.
@@ -294,6 +280,26 @@ impl Cluster {
         });
         (least, seen)
     }
+}
+
+/// A light's power and emission checked: its cone of normals (axis, spread) and whether it
+/// emits on both sides.
+pub(super) fn checked(power: f64, emission: Emission) -> Result<(DVec3, f64, bool), GeometryError> {
+    if !power.is_finite() {
+        return Err(GeometryError::NonFinite { what: "power" });
+    }
+    if power < 0.0 {
+        return Err(GeometryError::InvalidParameter {
+            what: "power",
+            value: power,
+            domain: "[0, infinity)",
+        });
+    }
+    Ok(match emission {
+        Emission::Everywhere => (DVec3::Z, PI, false),
+        Emission::OneSide(normal) => (emission_normal(normal)?, 0.0, false),
+        Emission::BothSides(normal) => (emission_normal(normal)?, 0.0, true),
+    })
 }
 
 /// [`Cluster::near2`] of lights in `bbox` of `power` and summed `exitance`.

@@ -16,23 +16,9 @@ use cluster::Cluster;
 
 use crate::tree::wins;
 use crate::{
-    Aabb, GeometryError, HitRecord, Hittable, Interval, LightSample, PdfHittable, Quad, Ray,
-    ShadingContext, Triangle, TriangleMesh,
+    Aabb, Emission, GeometryError, HitRecord, Hittable, Interval, LightSample, PdfHittable, Quad,
+    Ray, ShadingContext, Triangle, TriangleMesh,
 };
-
-/// The directions a light emits in, for [`LightTree`]'s importance: a light that faces
-/// away from a point is not picked there.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Emission {
-    /// From every point in every direction (a sphere, or a light whose orientation is not
-    /// known): never ruled out by its orientation.
-    Everywhere,
-    /// From the side of a surface that the given normal points to (a one-sided diffuse
-    /// panel): no light behind it.
-    OneSide(DVec3),
-    /// From both sides of a surface normal to the given vector.
-    BothSides(DVec3),
-}
 
 /// Lights picked by their importance from the point being shaded, as one [`PdfHittable`]:
 /// a binary tree over the lights whose every node bounds what is under it (a box, the
@@ -88,8 +74,12 @@ pub struct LightTree<T> {
     nodes: Vec<Node>,
     /// For each node, its parent (`u32::MAX` for the root).
     parents: Vec<u32>,
-    /// For each light, its leaf.
+    /// For each light, its leaf ([`NONE`] for an infinite light).
     leaves: Vec<u32>,
+    /// The lights of unbounded box (an environment), kept beside the tree, and those of
+    /// them with power, which are picked apart from it.
+    unbounded: Vec<u32>,
+    infinite: Vec<u32>,
 }
 
 /// A node of the tree: the bounds of its lights, and its second child or its light.
@@ -116,11 +106,17 @@ impl<T: PdfHittable> LightTree<T> {
     /// light must have power, unless there are none (then every density is 0 and every
     /// sample the zero vector, as for an empty [`Mixture`](crate::Mixture)).
     ///
+    /// A light whose bounding box is unbounded (an environment, a sky dome of no size) is
+    /// an *infinite* light, kept beside the tree as pbrt-v4's `BVHLightSampler` keeps them:
+    /// each infinite light of power, and the tree as a whole, is picked alike (a sky and
+    /// many lamps: the sky half the time), then sampled on its own; its power and emission
+    /// do not weigh the pick.
+    ///
     /// # Errors
     /// [`GeometryError::LengthMismatch`] if `powers` or `emission` differ in length from
     /// `lights`; [`GeometryError::NonFinite`] for a NaN or infinite power, or an emission
     /// normal that is not finite; [`GeometryError::InvalidParameter`] for a negative power,
-    /// for powers all 0, or for a light whose bounding box is empty or unbounded;
+    /// for powers all 0, or for a light whose bounding box is empty;
     /// [`GeometryError::ZeroVector`] for an emission normal of length 0.
     ///
     /// # Panics
@@ -144,8 +140,18 @@ impl<T: PdfHittable> LightTree<T> {
             "a LightTree holds at most u32::MAX / 2 lights"
         );
         let mut prims = Vec::with_capacity(lights.len());
+        let (mut unbounded, mut infinite) = (Vec::new(), Vec::new());
         for (i, light) in lights.iter().enumerate() {
-            let cluster = Cluster::of(light.bounding_box(), powers[i], emission[i])?;
+            let bbox = light.bounding_box();
+            if !bbox.is_empty() && !bbox.is_bounded() {
+                cluster::checked(powers[i], emission[i])?;
+                unbounded.push(i as u32);
+                if powers[i] > 0.0 {
+                    infinite.push(i as u32);
+                }
+                continue;
+            }
+            let cluster = Cluster::of(bbox, powers[i], emission[i])?;
             let centroid = 0.5 * (cluster.bbox.min() + cluster.bbox.max());
             prims.push(Prim {
                 cluster,
@@ -153,7 +159,8 @@ impl<T: PdfHittable> LightTree<T> {
                 light: i as u32,
             });
         }
-        if !lights.is_empty() && prims.iter().all(|p| p.cluster.power == 0.0) {
+        if !lights.is_empty() && infinite.is_empty() && prims.iter().all(|p| p.cluster.power == 0.0)
+        {
             return Err(GeometryError::InvalidParameter {
                 what: "sum of powers",
                 value: 0.0,
@@ -165,7 +172,7 @@ impl<T: PdfHittable> LightTree<T> {
             build(&mut prims, &mut nodes, 0);
         }
         let mut parents = alloc::vec![NONE; nodes.len()];
-        let mut leaves = alloc::vec![0; lights.len()];
+        let mut leaves = alloc::vec![NONE; lights.len()];
         for (n, node) in nodes.iter().enumerate() {
             if node.leaf {
                 leaves[node.index as usize] = n as u32;
@@ -179,6 +186,8 @@ impl<T: PdfHittable> LightTree<T> {
             nodes,
             parents,
             leaves,
+            unbounded,
+            infinite,
         })
     }
 
@@ -325,6 +334,15 @@ impl<T: PdfHittable> LightTree<T> {
             stack[top + 1] = n + 1;
             top += 2;
         }
+        for &i in &self.unbounded {
+            let i = i as usize;
+            let reach = Interval::new(ray_t.min, best.as_ref().map_or(ray_t.max, |b| b.1.t));
+            if let Some(hit) = hit_light(&self.lights[i], ray, reach)
+                && wins(hit.t, reach.max, || (i, best.as_ref().map(|(j, _)| *j)))
+            {
+                best = Some((i, hit));
+            }
+        }
         best
     }
 }
@@ -335,9 +353,13 @@ impl<T: PdfHittable> Hittable for LightTree<T> {
     }
 
     fn bounding_box(&self) -> Aabb {
-        self.nodes
+        let tree = self
+            .nodes
             .first()
-            .map_or(Aabb::EMPTY, |root| root.cluster.bbox)
+            .map_or(Aabb::EMPTY, |root| root.cluster.bbox);
+        self.unbounded.iter().fold(tree, |b, &i| {
+            b.union(&self.lights[i as usize].bounding_box())
+        })
     }
 }
 
@@ -685,17 +707,18 @@ mod tests {
             make(&[1.0], &[nan]),
             Some(GeometryError::NonFinite { .. })
         ));
-        // A light with no bounds to cluster by.
-        struct Everywhere;
-        impl Hittable for Everywhere {
+        // A light of unbounded box is an infinite light, whose power is checked as any
+        // other's; an empty box is still refused.
+        struct Sky(crate::Aabb);
+        impl Hittable for Sky {
             fn hit(&self, _: &Ray, _: Interval) -> Option<crate::HitRecord> {
                 None
             }
             fn bounding_box(&self) -> crate::Aabb {
-                crate::Aabb::UNIVERSE
+                self.0
             }
         }
-        impl PdfHittable for Everywhere {
+        impl PdfHittable for Sky {
             fn pdf_value(&self, _: DVec3, _: DVec3) -> f64 {
                 0.0
             }
@@ -703,9 +726,23 @@ mod tests {
                 DVec3::Y
             }
         }
-        let unbounded = LightTree::new(alloc::vec![Everywhere], &[1.0], &[Emission::Everywhere]);
+        let sky = || Sky(crate::Aabb::UNIVERSE);
+        assert!(LightTree::new(alloc::vec![sky()], &[1.0], &[Emission::Everywhere]).is_ok());
         assert!(matches!(
-            unbounded.err(),
+            LightTree::new(alloc::vec![sky()], &[f64::NAN], &[Emission::Everywhere]).err(),
+            Some(GeometryError::NonFinite { .. })
+        ));
+        assert!(matches!(
+            LightTree::new(alloc::vec![sky()], &[0.0], &[Emission::Everywhere]).err(),
+            Some(GeometryError::InvalidParameter { .. })
+        ));
+        let empty = LightTree::new(
+            alloc::vec![Sky(crate::Aabb::EMPTY)],
+            &[1.0],
+            &[Emission::Everywhere],
+        );
+        assert!(matches!(
+            empty.err(),
             Some(GeometryError::InvalidParameter { .. })
         ));
     }

@@ -41,11 +41,11 @@ impl<T: PdfHittable> LightTree<T> {
         if !origin.is_finite() {
             return None;
         }
-        let (light, rest, _, probability) = LightTree::pick_at(self, origin, normal, u)?;
+        let chosen = self.choose(origin, normal, u)?;
         Some(crate::LightPick {
-            light,
-            probability,
-            rest,
+            light: chosen.light,
+            probability: chosen.probability(),
+            rest: chosen.rest,
         })
     }
 
@@ -60,7 +60,55 @@ impl<T: PdfHittable> LightTree<T> {
         if !origin.is_finite() {
             return 0.0;
         }
-        self.reaching(self.leaves[i] as usize, origin, normal)
+        let Some((slot, tree)) = self.slots() else {
+            return 0.0;
+        };
+        match self.leaves[i] {
+            NONE if self.infinite.contains(&(i as u32)) => slot,
+            NONE => 0.0,
+            _ if !tree => 0.0,
+            leaf => self.reaching(leaf as usize, origin, normal) * slot,
+        }
+    }
+
+    /// The probability of each first choice (one of the infinite lights, or the tree),
+    /// and whether the tree is one of them (it holds a light of power); `None` where there
+    /// is nothing to pick.
+    #[inline]
+    fn slots(&self) -> Option<(f64, bool)> {
+        let tree = self.nodes.first().is_some_and(|r| r.cluster.power > 0.0);
+        let slots = self.infinite.len() + usize::from(tree);
+        (slots > 0).then(|| (1.0 / slots as f64, tree))
+    }
+
+    /// The first choice and then, where it is the tree, the walk: the light `x` in
+    /// `[0, 1)` picks, with what is left of `x`, its leaf (`None` for an infinite light)
+    /// and the probabilities of both choices. With no infinite light the first choice is
+    /// the tree's, of probability 1, and `x` goes to the walk unchanged.
+    pub(super) fn choose(&self, origin: DVec3, normal: Option<DVec3>, x: f64) -> Option<Chosen> {
+        let (slot, tree) = self.slots()?;
+        let slots = self.infinite.len() + usize::from(tree);
+        let below_one = 1.0 - f64::EPSILON / 2.0;
+        let scaled = if x > 0.0 { x.min(below_one) } else { 0.0 } * slots as f64;
+        let k = (scaled as usize).min(slots - 1);
+        let rest = (scaled - k as f64).clamp(0.0, below_one);
+        if let Some(&light) = self.infinite.get(k) {
+            return Some(Chosen {
+                light: light as usize,
+                rest,
+                leaf: None,
+                walk: 1.0,
+                slot,
+            });
+        }
+        let (light, rest, leaf, walk) = self.pick_at(origin, normal, rest)?;
+        Some(Chosen {
+            light,
+            rest,
+            leaf: Some(leaf),
+            walk,
+            slot,
+        })
     }
 
     /// The probability that the walk reaches node `n`: the product of the choices on the
@@ -139,10 +187,9 @@ impl<T: PdfHittable> LightTree<T> {
         if !origin.is_finite() {
             return DVec3::ZERO;
         }
-        self.pick_at(origin, normal, u.x)
-            .map_or(DVec3::ZERO, |(i, x, ..)| {
-                self.lights[i].sample_direction(origin, DVec2::new(x, u.y))
-            })
+        self.choose(origin, normal, u.x).map_or(DVec3::ZERO, |c| {
+            self.lights[c.light].sample_direction(origin, DVec2::new(c.rest, u.y))
+        })
     }
 
     /// [`PdfHittable::sample_light`]: the walk's pick sampled, its surface found, and the
@@ -153,11 +200,11 @@ impl<T: PdfHittable> LightTree<T> {
         if !origin.is_finite() {
             return None;
         }
-        let (i, x, leaf, p) = self.pick_at(origin, normal, u.x)?;
-        let direction = self.lights[i].sample_direction(origin, DVec2::new(x, u.y));
-        let known = (leaf, p);
+        let c = self.choose(origin, normal, u.x)?;
+        let direction = self.lights[c.light].sample_direction(origin, DVec2::new(c.rest, u.y));
+        let known = c.leaf.map(|leaf| (leaf, c.walk));
         LightSample::along_with(self, at, direction, |d| {
-            self.density_with(origin, normal, d, Some(known))
+            self.density_with(origin, normal, d, known)
         })
     }
 
@@ -175,12 +222,20 @@ impl<T: PdfHittable> LightTree<T> {
         known: Option<(usize, f64)>,
     ) -> f64 {
         let ray = Ray::new(origin, direction);
-        if self.nodes.is_empty() || !ray.is_valid() {
+        let Some((slot, tree)) = self.slots().filter(|_| ray.is_valid()) else {
             return 0.0;
-        }
+        };
         if let [only] = self.lights.as_slice() {
             // Picked always: its own density, and no box test before it.
             return only.pdf_value(origin, direction);
+        }
+        let infinite = |sum: f64| {
+            self.infinite.iter().fold(sum, |sum, &i| {
+                sum + slot * self.lights[i as usize].pdf_value(origin, direction)
+            })
+        };
+        if !tree {
+            return infinite(0.0);
         }
         // The lights the direction reaches, found by the boxes the ray meets (a light it
         // reaches lies in the box of every node above it); the walk's probability only for
@@ -210,6 +265,28 @@ impl<T: PdfHittable> LightTree<T> {
             stack[top + 1] = n as u32 + 1;
             top += 2;
         }
-        sum
+        infinite(sum * slot)
+    }
+}
+
+/// What [`LightTree::choose`] picked.
+pub(super) struct Chosen {
+    pub(super) light: usize,
+    /// What is left of the number that picked it, in `[0, 1)`.
+    pub(super) rest: f64,
+    /// Its leaf, for a light of the tree.
+    pub(super) leaf: Option<usize>,
+    /// The probability of the walk down the tree (1 for an infinite light), and of the
+    /// first choice.
+    pub(super) walk: f64,
+    pub(super) slot: f64,
+}
+
+impl Chosen {
+    /// The probability of the pick: the walk's times the first choice's, as
+    /// [`LightTree::probability`] multiplies them.
+    #[inline]
+    pub(super) fn probability(&self) -> f64 {
+        self.walk * self.slot
     }
 }
