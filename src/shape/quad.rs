@@ -346,7 +346,7 @@ impl<S: SampleInterior> Quad<S> {
 /// assert!((square.pdf_value(DVec3::ZERO, up) - 1.0 / 2.0944).abs() < 1e-4);
 /// ```
 impl<S: SampleInterior> PdfHittable for Quad<S> {
-    /// From the side its normal (`u x v`) faces: [`Emission::OneSide`].
+    /// From the side its normal (`u x v`) faces: [`Emission::OneSide`](crate::Emission::OneSide).
     #[inline]
     fn emission(&self) -> crate::Emission {
         crate::Emission::OneSide(self.plane().normal())

@@ -25,6 +25,15 @@ const VARIANCE_POINTS: usize = 200;
 const ESTIMATE_POINTS: usize = 2_000;
 const SPP: [usize; 2] = [16, 64];
 
+/// The halls `--scene` names (all without it).
+fn chosen(args: &Args) -> impl Iterator<Item = Hall> + '_ {
+    Hall::ALL.into_iter().filter(|h| {
+        args.scene
+            .as_ref()
+            .is_none_or(|s| h.name().contains(s.as_str()))
+    })
+}
+
 fn pbrt(lamps: &Lamps) -> PbrtLightBvh {
     let boxes: Vec<_> = lamps
         .quads
@@ -58,7 +67,7 @@ fn mean_variance(
 /// pbrt's at every scale.
 pub(super) fn variance_rows(args: &Args) -> Vec<String> {
     let mut rows = Vec::new();
-    for hall in Hall::ALL {
+    for hall in chosen(args) {
         for n in COUNTS {
             let mut tree_row = Vec::new();
             let mut pbrt_row = Vec::new();
@@ -151,7 +160,7 @@ fn error_and_time(
 /// product over pbrt's (each sampler's time the median of `args.runs`, in alternation).
 pub(super) fn estimate_rows(args: &Args) -> Vec<String> {
     let mut rows = Vec::new();
-    for hall in Hall::ALL {
+    for hall in chosen(args) {
         for n in COUNTS {
             let lamps = halls::lamps(hall, n, 1.0, args.seed);
             let points = halls::floor_points(ESTIMATE_POINTS, 1.0, args.seed);

@@ -70,7 +70,7 @@ Options:
                  Embree 3 too, with each library's bytes
   --crowd N      bunnies in the triad's crowd, 0 for none [default: 9]
   --only TEXT    with --triad: time only the libraries whose names hold TEXT (for profiles)
-  --scene TEXT   with --triad: only the scenes whose names hold TEXT
+  --scene TEXT   with --triad: only the scenes whose names hold TEXT; with --halls, the halls
   --ftz          with --triad: hitkit's rows again with the CPU's flush-to-zero and
                  denormals-are-zero modes on (x86_64), and the answers that change
   --count        with --triad: no tables; each library chosen by --only traces each set

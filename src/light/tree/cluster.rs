@@ -94,7 +94,7 @@ impl Cluster {
         let e = bbox.max() - bbox.min();
         let m = e.max_element();
         let f = e / m;
-        let area = m * m * sqrt((f.x * f.y).powi(2) + (f.y * f.z).powi(2) + (f.z * f.x).powi(2));
+        let area = m * m * sqrt(DVec3::new(f.x * f.y, f.y * f.z, f.z * f.x).length_squared());
         let sides = if two_sided { 2.0 } else { 1.0 };
         let exitance = power / (sides * area);
         Ok(Self::with_spread(
