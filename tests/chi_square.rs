@@ -701,7 +701,8 @@ fn a_mixture_of_lights_draws_what_its_density_says() {
 /// The four lights in a light tree (each light's emission as its shape has it: the
 /// square facing down, the disk and the triangle both ways, the sphere everywhere), of
 /// powers far apart, one of them 0: the walk's choices vary with the origin, so from each
-/// origin the density must follow them; with a normal, lights below the horizon drop out.
+/// origin the density must follow them, and with a normal (either side) the cosine at the
+/// surface weighs them too.
 fn light_trees() -> Vec<Case> {
     let tree = || {
         let emission = [
