@@ -184,8 +184,8 @@ impl Cluster {
     /// box's greatest extent along it from `p` over the distance to the box: tight from
     /// far, where the bounding sphere is loose), and by the bounding sphere otherwise (a
     /// tight bound on the surface's cosine beside a loose one on the lights' lets clusters
-    /// whose lights face the point least win: measured on the halls of `--halls`, the
-    /// variance of the choice with lamps seen edge on rose by half).
+    /// whose lights face the point least win: tried on the halls of `hitkit-peers --halls`,
+    /// the variance of the choice with lamps seen edge on rose from 0.63 to 0.71).
     ///
     /// The squared distance is clamped below where power over it would pass `PI` times the
     /// sum of the lights' exitances: no diffuse light sends a point more irradiance than its
@@ -232,8 +232,9 @@ impl Cluster {
                 at - v.dot(DVec3::select(positive, min, max)),
             )
         };
+        // `behind`: the most that `p - x` reaches along the lights' normal for a point `x`
+        // of the box (where `p` lies in front of a light).
         let (ahead, behind) = reach(self.axis);
-        // Toward `p` is against the normal from the box.
         let toward = if self.two_sided {
             ahead.max(behind)
         } else {

@@ -60,25 +60,29 @@ impl<T: PdfHittable> LightTree<T> {
         if !origin.is_finite() {
             return 0.0;
         }
-        let Some((slot, tree)) = self.slots() else {
+        let Some(slots) = self.slots() else {
             return 0.0;
         };
         match self.leaves[i] {
-            NONE if self.infinite.contains(&(i as u32)) => slot,
+            NONE if self.infinite.contains(&(i as u32)) => slots.each,
             NONE => 0.0,
-            _ if !tree => 0.0,
-            leaf => self.reaching(leaf as usize, origin, normal) * slot,
+            _ if !slots.tree => 0.0,
+            leaf => self.reaching(leaf as usize, origin, normal) * slots.each,
         }
     }
 
-    /// The probability of each first choice (one of the infinite lights, or the tree),
-    /// and whether the tree is one of them (it holds a light of power); `None` where there
-    /// is nothing to pick.
+    /// The first choices (the infinite lights, then the tree where it holds a light of
+    /// power), their count and the probability of each; `None` where there is nothing
+    /// to pick.
     #[inline]
-    fn slots(&self) -> Option<(f64, bool)> {
+    fn slots(&self) -> Option<Slots> {
         let tree = self.nodes.first().is_some_and(|r| r.cluster.power > 0.0);
-        let slots = self.infinite.len() + usize::from(tree);
-        (slots > 0).then(|| (1.0 / slots as f64, tree))
+        let count = self.infinite.len() + usize::from(tree);
+        (count > 0).then(|| Slots {
+            count,
+            each: 1.0 / count as f64,
+            tree,
+        })
     }
 
     /// The first choice and then, where it is the tree, the walk: the light `x` in
@@ -86,11 +90,10 @@ impl<T: PdfHittable> LightTree<T> {
     /// and the probabilities of both choices. With no infinite light the first choice is
     /// the tree's, of probability 1, and `x` goes to the walk unchanged.
     pub(super) fn choose(&self, origin: DVec3, normal: Option<DVec3>, x: f64) -> Option<Chosen> {
-        let (slot, tree) = self.slots()?;
-        let slots = self.infinite.len() + usize::from(tree);
+        let Slots { count, each, .. } = self.slots()?;
         let below_one = 1.0 - f64::EPSILON / 2.0;
-        let scaled = if x > 0.0 { x.min(below_one) } else { 0.0 } * slots as f64;
-        let k = (scaled as usize).min(slots - 1);
+        let scaled = if x > 0.0 { x.min(below_one) } else { 0.0 } * count as f64;
+        let k = (scaled as usize).min(count - 1);
         let rest = (scaled - k as f64).clamp(0.0, below_one);
         if let Some(&light) = self.infinite.get(k) {
             return Some(Chosen {
@@ -98,7 +101,7 @@ impl<T: PdfHittable> LightTree<T> {
                 rest,
                 leaf: None,
                 walk: 1.0,
-                slot,
+                slot: each,
             });
         }
         let (light, rest, leaf, walk) = self.pick_at(origin, normal, rest)?;
@@ -107,7 +110,7 @@ impl<T: PdfHittable> LightTree<T> {
             rest,
             leaf: Some(leaf),
             walk,
-            slot,
+            slot: each,
         })
     }
 
@@ -222,7 +225,7 @@ impl<T: PdfHittable> LightTree<T> {
         known: Option<(usize, f64)>,
     ) -> f64 {
         let ray = Ray::new(origin, direction);
-        let Some((slot, tree)) = self.slots().filter(|_| ray.is_valid()) else {
+        let Some(Slots { each, tree, .. }) = self.slots().filter(|_| ray.is_valid()) else {
             return 0.0;
         };
         if let [only] = self.lights.as_slice() {
@@ -231,7 +234,7 @@ impl<T: PdfHittable> LightTree<T> {
         }
         let infinite = |sum: f64| {
             self.infinite.iter().fold(sum, |sum, &i| {
-                sum + slot * self.lights[i as usize].pdf_value(origin, direction)
+                sum + each * self.lights[i as usize].pdf_value(origin, direction)
             })
         };
         if !tree {
@@ -265,8 +268,17 @@ impl<T: PdfHittable> LightTree<T> {
             stack[top + 1] = n as u32 + 1;
             top += 2;
         }
-        infinite(sum * slot)
+        infinite(sum * each)
     }
+}
+
+/// [`LightTree`]'s first choices: `count` of them (its infinite lights, then the tree
+/// where it holds a light of power), each of probability `each`.
+#[derive(Clone, Copy)]
+struct Slots {
+    count: usize,
+    each: f64,
+    tree: bool,
 }
 
 /// What [`LightTree::choose`] picked.
