@@ -381,8 +381,9 @@ impl<T: PdfHittable> PdfHittable for LightTree<T> {
 
     /// As [`sample_direction`](PdfHittable::sample_direction), with the context's normal:
     /// each choice weighs the cosine at the surface too, in absolute value (the normal's
-    /// side does not matter). `None` only for an empty tree or a point that is not
-    /// finite.
+    /// side does not matter). `None` for an empty tree, a point that is not finite, or a
+    /// sampled direction along which no light's surface is found (see
+    /// [`LightSample::along`]); never because of where the lights lie.
     fn sample_light(&self, at: &ShadingContext, u: DVec2) -> Option<LightSample> {
         self.sample_light_at(at, u)
     }
