@@ -185,7 +185,9 @@ impl Cluster {
     /// far, where the bounding sphere is loose), and by the bounding sphere otherwise (a
     /// tight bound on the surface's cosine beside a loose one on the lights' lets clusters
     /// whose lights face the point least win: tried on the halls of `hitkit-peers --halls`,
-    /// the variance of the choice with lamps seen edge on rose from 0.63 to 0.71).
+    /// the variance of the choice with lamps seen edge on rose from 0.63 to 0.71; the box's
+    /// bound on the lights' cosine beside the sphere's there: 0.626 to 0.625, and 12% to
+    /// 24% more time).
     ///
     /// The squared distance is clamped below where power over it would pass `PI` times the
     /// sum of the lights' exitances: no diffuse light sends a point more irradiance than its
