@@ -6,30 +6,12 @@
 mod support;
 
 use hitkit::glam::DVec2;
-use hitkit::{LightTree, PdfHittable, Quad, ShadingContext};
-use hitkit_render::halls::{self, Hall, Lamps, choice_variance};
-use hitkit_render::pbrt_lights::PbrtLightBvh;
+use hitkit::{PdfHittable, ShadingContext};
+use hitkit_render::halls::{self, Hall, mean_choice_variance};
 use support::{SplitMix, mean_and_error};
 
 const LAMPS: usize = 1_000;
 const SEED: u64 = 0x5eed;
-
-fn tree(lamps: &Lamps) -> LightTree<Quad> {
-    LightTree::new(lamps.quads.clone(), &lamps.powers, &lamps.emission).unwrap()
-}
-
-/// The mean over `points` of the choice's variance.
-fn mean_variance(
-    lamps: &Lamps,
-    points: &[ShadingContext],
-    p: impl Fn(&ShadingContext, usize) -> f64,
-) -> f64 {
-    let v: Vec<f64> = points
-        .iter()
-        .map(|at| choice_variance(lamps, at, |i| p(at, i)).expect("lamps light the floor"))
-        .collect();
-    v.iter().sum::<f64>() / v.len() as f64
-}
 
 /// Every length times a power of two (exact in floating point, down to 2^-7 and up to
 /// 2^7): every probability is the same, bit for bit. The importance divides a power by a
@@ -41,10 +23,10 @@ fn the_choice_does_not_depend_on_the_unit() {
     for hall in Hall::ALL {
         let lamps = halls::lamps(hall, LAMPS, 1.0, SEED);
         let points = halls::floor_points(8, 1.0, SEED);
-        let unit = tree(&lamps);
+        let unit = lamps.tree();
         for k in [-7, -3, 3, 7] {
             let scale = 2f64.powi(k);
-            let scaled = tree(&halls::lamps(hall, LAMPS, scale, SEED));
+            let scaled = halls::lamps(hall, LAMPS, scale, SEED).tree();
             for at in &points {
                 let there = ShadingContext::on_surface(at.point * scale, at.normal.unwrap());
                 for i in 0..lamps.quads.len() {
@@ -70,9 +52,9 @@ fn the_choice_is_at_least_as_sharp_as_pbrt_v4s() {
         for scale in [1.0, 0.01] {
             let lamps = halls::lamps(hall, LAMPS, scale, SEED);
             let points = halls::floor_points(40, scale, SEED);
-            let (t, b) = (tree(&lamps), pbrt(&lamps));
-            let ours = mean_variance(&lamps, &points, |at, i| t.probability(at, i));
-            let theirs = mean_variance(&lamps, &points, |at, i| b.probability(at, i));
+            let (t, b) = (lamps.tree(), lamps.pbrt());
+            let ours = mean_choice_variance(&lamps, &points, |at, i| t.probability(at, i));
+            let theirs = mean_choice_variance(&lamps, &points, |at, i| b.probability(at, i));
             let name = hall.name();
             if scale == 1.0 {
                 assert!(ours <= theirs, "{name}: {ours} against pbrt-v4's {theirs}");
@@ -86,16 +68,6 @@ fn the_choice_is_at_least_as_sharp_as_pbrt_v4s() {
     }
 }
 
-fn pbrt(lamps: &Lamps) -> PbrtLightBvh {
-    use hitkit::Hittable;
-    let boxes: Vec<_> = lamps
-        .quads
-        .iter()
-        .map(|q| (q.bounding_box().min(), q.bounding_box().max()))
-        .collect();
-    PbrtLightBvh::new(&boxes, &lamps.powers, &lamps.normals)
-}
-
 /// Next-event estimation by `LightTree::pick` and the picked lamp's own density, at floor
 /// points of each hall: the mean of 4,000 samples within 4 standard errors of the exact
 /// irradiance (Lambert's formula summed over the lamps). A probability off by a factor,
@@ -105,7 +77,7 @@ fn next_event_estimation_by_pick_is_unbiased() {
     let mut rng = SplitMix::new(SEED);
     for hall in Hall::ALL {
         let lamps = halls::lamps(hall, LAMPS, 1.0, SEED);
-        let t = tree(&lamps);
+        let t = lamps.tree();
         for at in halls::floor_points(4, 1.0, SEED) {
             let exact: f64 = (0..lamps.quads.len())
                 .map(|i| halls::irradiance(&lamps, i, &at))

@@ -41,8 +41,9 @@ impl PdfHittable for Sky {
     }
 }
 
-/// The hall's lamps and the sky, the sky last.
-fn lights(lamps: &halls::Lamps) -> (Vec<Box<dyn PdfHittable>>, Vec<f64>, Vec<hitkit::Emission>) {
+/// A hall's lamps and the sky (of power 1, the last light) in one tree, and the sky's
+/// index.
+fn with_sky(lamps: &halls::Lamps) -> (LightTree<Box<dyn PdfHittable>>, usize) {
     let mut all: Vec<Box<dyn PdfHittable>> = Vec::new();
     for q in &lamps.quads {
         all.push(Box::new(*q));
@@ -52,7 +53,8 @@ fn lights(lamps: &halls::Lamps) -> (Vec<Box<dyn PdfHittable>>, Vec<f64>, Vec<hit
     powers.push(1.0);
     let mut emission = lamps.emission.clone();
     emission.push(hitkit::Emission::Everywhere);
-    (all, powers, emission)
+    let sky = all.len() - 1;
+    (LightTree::new(all, &powers, &emission).unwrap(), sky)
 }
 
 /// The sky is picked half the time (it and the tree alike), whatever its power; the
@@ -61,9 +63,7 @@ fn lights(lamps: &halls::Lamps) -> (Vec<Box<dyn PdfHittable>>, Vec<f64>, Vec<hit
 #[test]
 fn a_sky_is_picked_beside_the_tree() {
     let lamps = halls::lamps(Hall::Ceiling, 200, 1.0, 3);
-    let (all, powers, emission) = lights(&lamps);
-    let sky = all.len() - 1;
-    let tree = LightTree::new(all, &powers, &emission).unwrap();
+    let (tree, sky) = with_sky(&lamps);
     assert!(!tree.bounding_box().is_bounded());
     let mut rng = SplitMix::new(5);
     for at in halls::floor_points(10, 1.0, 9) {
@@ -100,9 +100,7 @@ fn a_sky_is_picked_beside_the_tree() {
 #[test]
 fn a_sky_and_many_lamps_are_estimated_without_bias() {
     let lamps = halls::lamps(Hall::Room, 400, 1.0, 3);
-    let (all, powers, emission) = lights(&lamps);
-    let sky = all.len() - 1;
-    let tree = LightTree::new(all, &powers, &emission).unwrap();
+    let (tree, sky) = with_sky(&lamps);
     let radiance = |i: usize, direction: DVec3| {
         if i == sky {
             1.0

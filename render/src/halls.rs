@@ -6,8 +6,9 @@
 use core::f64::consts::PI;
 
 use hitkit::glam::DVec3;
-use hitkit::{Emission, Quad, ShadingContext};
+use hitkit::{Emission, Hittable, LightTree, Quad, ShadingContext};
 
+use crate::pbrt_lights::PbrtLightBvh;
 use crate::workloads::SplitMix;
 
 /// The kinds of hall: which lamps, where, facing where.
@@ -69,6 +70,21 @@ impl Lamps {
     /// Lamp `i`'s radiance.
     pub fn radiance(&self, i: usize) -> f64 {
         self.powers[i] / (PI * self.quads[i].area())
+    }
+
+    /// hitkit's light tree over the lamps, each of its side.
+    pub fn tree(&self) -> LightTree<Quad> {
+        LightTree::new(self.quads.clone(), &self.powers, &self.emission).expect("valid lamps")
+    }
+
+    /// pbrt-v4's BVH light sampler over the lamps.
+    pub fn pbrt(&self) -> PbrtLightBvh {
+        let boxes: Vec<_> = self
+            .quads
+            .iter()
+            .map(|q| (q.bounding_box().min(), q.bounding_box().max()))
+            .collect();
+        PbrtLightBvh::new(&boxes, &self.powers, &self.normals)
     }
 }
 
@@ -236,4 +252,18 @@ pub fn choice_variance(
         }
     }
     (total > 0.0).then(|| second / (total * total) - 1.0)
+}
+
+/// The mean of [`choice_variance`] over `points` (those no lamp lights left out), for a
+/// sampler whose probability of lamp `i` from a point is `probability`.
+pub fn mean_choice_variance(
+    lamps: &Lamps,
+    points: &[ShadingContext],
+    probability: impl Fn(&ShadingContext, usize) -> f64,
+) -> f64 {
+    let v: Vec<f64> = points
+        .iter()
+        .filter_map(|at| choice_variance(lamps, at, |i| probability(at, i)))
+        .collect();
+    v.iter().sum::<f64>() / v.len() as f64
 }

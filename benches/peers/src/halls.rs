@@ -8,9 +8,8 @@ use std::hint::black_box;
 use std::time::Instant;
 
 use hitkit::glam::DVec2;
-use hitkit::{Hittable, LightTree, Mixture, PdfHittable, Quad, ShadingContext};
-use hitkit_render::halls::{self, Hall, Lamps, choice_variance};
-use hitkit_render::pbrt_lights::PbrtLightBvh;
+use hitkit::{Mixture, PdfHittable, ShadingContext};
+use hitkit_render::halls::{self, Hall, Lamps, mean_choice_variance};
 use hitkit_render::workloads::{self, SplitMix};
 
 use super::Args;
@@ -34,35 +33,6 @@ fn chosen(args: &Args) -> impl Iterator<Item = Hall> + '_ {
     })
 }
 
-fn pbrt(lamps: &Lamps) -> PbrtLightBvh {
-    let boxes: Vec<_> = lamps
-        .quads
-        .iter()
-        .map(|q| {
-            let b = q.bounding_box();
-            (b.min(), b.max())
-        })
-        .collect();
-    PbrtLightBvh::new(&boxes, &lamps.powers, &lamps.normals)
-}
-
-fn tree(lamps: &Lamps) -> LightTree<Quad> {
-    LightTree::new(lamps.quads.clone(), &lamps.powers, &lamps.emission).expect("valid lamps")
-}
-
-/// The mean of the choice's variance over the floor points.
-fn mean_variance(
-    lamps: &Lamps,
-    points: &[ShadingContext],
-    p: impl Fn(&ShadingContext, usize) -> f64,
-) -> f64 {
-    let v: Vec<f64> = points
-        .iter()
-        .filter_map(|at| choice_variance(lamps, at, |i| p(at, i)))
-        .collect();
-    v.iter().sum::<f64>() / v.len() as f64
-}
-
 /// One row per hall and count: the choice's variance of the tree at every scale, then
 /// pbrt's at every scale.
 pub(super) fn variance_rows(args: &Args) -> Vec<String> {
@@ -74,10 +44,14 @@ pub(super) fn variance_rows(args: &Args) -> Vec<String> {
             for scale in SCALES {
                 let lamps = halls::lamps(hall, n, scale, args.seed);
                 let points = halls::floor_points(VARIANCE_POINTS, scale, args.seed);
-                let t = tree(&lamps);
-                let b = pbrt(&lamps);
-                tree_row.push(mean_variance(&lamps, &points, |at, i| t.probability(at, i)));
-                pbrt_row.push(mean_variance(&lamps, &points, |at, i| b.probability(at, i)));
+                let t = lamps.tree();
+                let b = lamps.pbrt();
+                tree_row.push(mean_choice_variance(&lamps, &points, |at, i| {
+                    t.probability(at, i)
+                }));
+                pbrt_row.push(mean_choice_variance(&lamps, &points, |at, i| {
+                    b.probability(at, i)
+                }));
             }
             let cells = |r: &[f64]| {
                 r.iter()
@@ -172,8 +146,8 @@ pub(super) fn estimate_rows(args: &Args) -> Vec<String> {
                         .sum()
                 })
                 .collect();
-            let t = tree(&lamps);
-            let b = pbrt(&lamps);
+            let t = lamps.tree();
+            let b = lamps.pbrt();
             let mixture = Mixture::new(lamps.quads.clone(), &lamps.powers).expect("powers");
             for spp in SPP {
                 let mut results: [Vec<(f64, f64)>; 3] = Default::default();
