@@ -70,13 +70,29 @@ struct Lanes {
 const PAD: f64 = 1.0 / (1u32 << 21) as f64;
 const UNDERFLOW: f64 = 1.0 / (1u128 << 120) as f64;
 
-/// Stack entries kept in the walk's frame: the pending children of three levels of nodes
-/// whose every child the ray enters, where a walk mostly enters one or two; a walk that
-/// needs more goes on on a stack for the deepest tree the build makes ([`DEEP`]). (The
-/// frame's stack is zeroed on every walk: the kilobyte it was cost about 70 instructions a
-/// ray, in callgrind on the triad's bunny.)
-const SMALL: usize = 24;
-const DEEP: usize = (WIDTH - 1) * MAX_DEPTH;
+/// The walk's two stacks, and why neither overflows. A node whose three or more children
+/// the ray enters puts all of them on the stack before it takes the nearest off (one or
+/// two push at most one), so testing a node needs room for `pending + WIDTH` entries. What
+/// is pending then is, for each node above it, at most the `WIDTH - 1` children not taken
+/// (last in, first out: a level's entries come off only after all pushed above them), so
+/// at most `(WIDTH - 1) (d - 1)` at level `d` (the root's is 1).
+///
+/// - [`SMALL`], in the walk's frame, tests a node only where `pending + WIDTH <= SMALL`;
+///   otherwise the walk goes on on the deep stack from that node, untested. 25 holds every
+///   child of two levels and three more, so the walks that spill are the ones that did
+///   when it held 24 and tested up to `pending + WIDTH - 1` (which overflowed at 17
+///   pending and eight children: the ToyCar's crash). A walk mostly enters one or two
+///   children; the frame's stack is zeroed on every walk (the kilobyte it was cost about
+///   70 instructions a ray, in callgrind on the triad's bunny).
+/// - [`DEEP`] tests every node, so it holds the most a tree of [`MAX_DEPTH`] levels asks:
+///   `(WIDTH - 1) (MAX_DEPTH - 1) + WIDTH`. No tree has more levels: the build's
+///   (`build::MEDIAN_FROM_DEPTH`), and an insert refuses a place below it
+///   (`insert::Tree::best_spot`).
+///
+/// The tests `walks_at_each_stack_bound_offer_every_leaf_once` drive both to their last
+/// entry.
+const SMALL: usize = 25;
+const DEEP: usize = (WIDTH - 1) * (MAX_DEPTH - 1) + WIDTH;
 
 /// Limits within which the `f32` distances cannot overflow (see [`Lanes`]).
 const ORIGIN_LIMIT: f64 = (1u64 << 62) as f64;
@@ -392,7 +408,9 @@ impl<const N: usize> Walk<N> {
         loop {
             let (index, count) = self.at;
             if count == 0 {
-                if N < DEEP && self.pending + WIDTH - 1 > N {
+                // Room for all of a node's children before its nearest is taken (see
+                // `SMALL`); the deep stack has it for every node of every tree.
+                if N < DEEP && self.pending + WIDTH > N {
                     return true;
                 }
                 let node = &tree.nodes[index as usize];
@@ -616,6 +634,104 @@ mod tests {
                 "nearest {nearest}: a leaf offered not once"
             );
         }
+    }
+
+    /// A tree of one node a level, the node of level `l + 1` with `lanes[l]` children,
+    /// all of one box: lane 0 the next level's node (on the last level, a leaf) and the
+    /// rest leaves of one object each. A ray through the box enters every child and takes
+    /// lane 0 first (equal entries: the lower lane on top), so the walk tests the last
+    /// node with `sum(lanes[..last] - 1)` entries pending, and it pushes `lanes[last]`.
+    fn chain(lanes: &[usize]) -> Tree {
+        let unit = Aabb::new(DVec3::splat(-1.0), DVec3::ONE);
+        let (mut tree, _) = Tree::build(1, |_| unit, Shape::OBJECTS, false);
+        let template = tree.nodes[0];
+        let mut objects = 0;
+        tree.nodes = lanes
+            .iter()
+            .enumerate()
+            .map(|(level, &used)| {
+                let mut node = template;
+                for k in 0..super::WIDTH {
+                    for side in 0..6 {
+                        node.bounds[side][k] = if k < used {
+                            template.bounds[side][0]
+                        } else {
+                            template.bounds[side][super::WIDTH - 1]
+                        };
+                    }
+                    let inner = k == 0 && level + 1 < lanes.len();
+                    (node.index[k], node.count[k]) = match () {
+                        _ if k >= used => (0, 0),
+                        _ if inner => (level as u32 + 1, 0),
+                        _ => {
+                            objects += 1;
+                            (objects - 1, 1)
+                        }
+                    };
+                }
+                node
+            })
+            .collect();
+        tree.order = (0..objects).collect();
+        tree.bounded = objects as usize;
+        tree.depth = lanes.len();
+        tree
+    }
+
+    /// Levels of full nodes, then one of fewer children, then a full one, such that the
+    /// walk tests the last with `pending` entries pending.
+    fn chain_with_pending(pending: usize) -> Tree {
+        let full = super::WIDTH - 1;
+        let mut lanes = vec![super::WIDTH; pending / full];
+        lanes.push(pending % full + 1);
+        lanes.push(super::WIDTH);
+        chain(&lanes)
+    }
+
+    /// Every leaf offered once by both walks, on `ray`; the nodes tested, as counted.
+    fn offers_every_leaf_once(tree: &Tree, ray: &Ray) -> u32 {
+        let mut nodes = 0;
+        for nearest in [true, false] {
+            let mut seen = vec![0u32; tree.bounded];
+            let mut offer = |first: usize, count: usize, _: &mut f64| {
+                seen[first..first + count].iter_mut().for_each(|s| *s += 1);
+                false
+            };
+            let (mut t_max, mut visits) = (f64::INFINITY, crate::Visits::default());
+            if nearest {
+                tree.walk::<true>(ray, Interval::FORWARD, &mut t_max, &mut visits, &mut offer);
+            } else {
+                tree.walk::<false>(ray, Interval::FORWARD, &mut t_max, &mut visits, &mut offer);
+            }
+            assert!(
+                seen.iter().all(|&s| s == 1),
+                "nearest {nearest}: a leaf offered not once"
+            );
+            nodes = visits.nodes;
+        }
+        nodes
+    }
+
+    /// Each stack filled to its last entry, and one past the small one's limit: the small
+    /// stack tests a node of `WIDTH` children with `SMALL - WIDTH` pending (its last entry
+    /// written; with one more pending the walk goes on on the deep stack), and the deep
+    /// stack walks a tree of `MAX_DEPTH` full levels, which writes its last entry. Each
+    /// walk offers every leaf once. (With the small stack testing up to
+    /// `pending + WIDTH - 1`, or the deep stack `(WIDTH - 1) MAX_DEPTH` long, as before the
+    /// ToyCar's crash was fixed, the first and last of these panicked.)
+    #[test]
+    fn walks_at_each_stack_bound_offer_every_leaf_once() {
+        use super::{MAX_DEPTH, SMALL, WIDTH};
+        let ray = Ray::new(DVec3::splat(-5.0), DVec3::new(1.0, 0.9, 1.1));
+        for pending in [SMALL - WIDTH, SMALL - WIDTH + 1] {
+            let tree = chain_with_pending(pending);
+            let levels = offers_every_leaf_once(&tree, &ray);
+            assert_eq!(levels as usize, tree.depth(), "{pending} pending");
+        }
+        // Pending `(WIDTH - 1) (MAX_DEPTH - 1)` at the last level, which pushes `WIDTH`:
+        // entry `DEEP - 1` written.
+        let deepest = chain(&[WIDTH; MAX_DEPTH]);
+        assert_eq!(offers_every_leaf_once(&deepest, &ray) as usize, MAX_DEPTH);
     }
 
     /// A ray from a box's inside starting at zero, as every bounce and shadow ray does,
