@@ -413,4 +413,45 @@ mod tests {
             }
         }
     }
+
+    /// Balls inserted each inside the last grow the tree a level every seven (each new
+    /// ball's cheapest place is beside the innermost), to the deepest tree an insert makes
+    /// ([`MAX_DEPTH`](crate::tree::MAX_DEPTH) levels; one more, and the insert rebuilds):
+    /// there a ray through the centre enters every child of every node, and the walk on the
+    /// deep stack answers as the loop over the balls.
+    #[test]
+    fn inserts_of_nested_balls_reach_the_deepest_tree_which_answers_as_the_loop() {
+        use crate::Interval;
+        use crate::tree::MAX_DEPTH;
+        let mut bvh = Bvh::new(Vec::new());
+        let mut balls = Vec::new();
+        let rays = [
+            crate::Ray::new(DVec3::new(-5.0, 1e-7, 0.0), DVec3::X),
+            crate::Ray::new(DVec3::new(0.0, 2.0, 1e-7), DVec3::NEG_Y),
+            crate::Ray::new(DVec3::ZERO, DVec3::new(0.3, -0.2, 1.0)),
+        ];
+        let mut deepest = 0;
+        for i in 0..8 * MAX_DEPTH {
+            let centre = DVec3::new(1e-4 * (i as f64).sin(), 0.0, 0.0);
+            let ball = Sphere::new(centre, 0.985f64.powi(i as i32)).unwrap();
+            bvh.insert(ball);
+            balls.push(ball);
+            if bvh.tree.depth() > deepest {
+                deepest = bvh.tree.depth();
+                // Stopped short of the innermost ball, from its centre: no hit, every
+                // node's every child entered at 0.
+                for (ray, ray_t) in rays
+                    .iter()
+                    .flat_map(|r| [(r, Interval::FORWARD), (r, Interval::new(0.0, 1e-9))])
+                {
+                    let want = crate::Hittable::hit(&balls, ray, ray_t);
+                    let got = bvh.hit(ray, ray_t);
+                    assert_eq!(got.map(|h| h.t), want.map(|h| h.t), "depth {deepest}");
+                    assert_eq!(bvh.occluded(ray, ray_t), want.is_some(), "depth {deepest}");
+                }
+            }
+        }
+        assert_eq!(deepest, MAX_DEPTH);
+        assert!(check(&bvh).is_ok());
+    }
 }

@@ -19,8 +19,13 @@ const BINS: usize = 16;
 const MAX_LEAF: usize = 8;
 /// Cost of visiting a node, relative to testing one object.
 const TRAVERSAL_COST: f64 = 1.0;
-/// From this depth on, splits are by count (median), which halves the objects: with at most
-/// 2^32 of them, 32 more levels reach single objects, within MAX_DEPTH.
+/// From this depth on, splits are by count (median), which halves the objects: a node at
+/// this depth holds fewer than 2^32 of them, so 32 halvings more leave one, and no inner
+/// node of the binary tree lies deeper than `MAX_DEPTH - 2` (the root's depth is 0). A
+/// node of eight takes the place of at least one binary level, so the tree has at most
+/// `MAX_DEPTH - 1` levels of them, within what the walk's stacks hold
+/// (`the_deepest_build_stays_within_max_depth` builds a binary chain that deep; as nodes
+/// of eight, seven binary levels take one).
 const MEDIAN_FROM_DEPTH: usize = MAX_DEPTH - 33;
 
 /// One bounded object: its box, and in the `w` lane of `min` its position in the caller's
@@ -464,7 +469,8 @@ impl Binning {
 }
 
 /// The bin of a scaled centroid coordinate. The float-to-int cast saturates, and NaN
-/// becomes 0: always a valid bin.
+/// becomes 0: always below `bins`, which [`Binning::new`] keeps at most [`BINS`], the size
+/// of the arrays it indexes (`every_centroid_falls_in_a_bin` tries the extremes).
 #[inline]
 fn bin_at(x: f32, bins: usize) -> usize {
     (x as usize).min(bins - 1)
@@ -503,6 +509,64 @@ pub(crate) fn permute<T>(objects: &mut [T], order: &[u32]) {
 
 #[cfg(test)]
 mod tests {
+    /// Boxes along a line, each twice as far out and as large as the last, which the
+    /// heuristic splits off one a level down to `MEDIAN_FROM_DEPTH` and then by count: the
+    /// build's deepest binary tree, within `MAX_DEPTH` as nodes of eight, whole, and walked
+    /// without a leaf missed or offered twice.
+    #[test]
+    fn the_deepest_build_stays_within_max_depth() {
+        use super::{MAX_DEPTH, Shape, Tree};
+        use crate::{Aabb, Interval, Ray};
+        use glam::DVec3;
+        let boxes: Vec<Aabb> = (0..100)
+            .map(|i| {
+                let r = 2f64.powi(i);
+                Aabb::new(DVec3::new(2.0 * r, -r, -r), DVec3::new(4.0 * r, r, r))
+            })
+            .collect();
+        let (tree, _) = Tree::build(boxes.len(), |i| boxes[i], Shape::OBJECTS, false);
+        let levels = tree
+            .check(|p| boxes[tree.order[p] as usize], |_, _| Ok(()))
+            .unwrap();
+        assert!(levels < MAX_DEPTH, "{levels} levels");
+        let ray = Ray::new(DVec3::new(0.0, 0.5, 0.0), DVec3::X);
+        let (mut seen, mut t_max) = (vec![0; boxes.len()], f64::INFINITY);
+        tree.walk::<true>(
+            &ray,
+            Interval::FORWARD,
+            &mut t_max,
+            &mut (),
+            |first, count, _| {
+                seen[first..first + count].iter_mut().for_each(|s| *s += 1);
+                false
+            },
+        );
+        assert!(seen.iter().all(|&s| s == 1));
+    }
+
+    /// Every scaled centroid falls in one of the bins in use, past either end, infinite
+    /// and NaN included.
+    #[test]
+    fn every_centroid_falls_in_a_bin() {
+        for bins in [2, 7, super::BINS] {
+            let last = bins as f32;
+            for x in [
+                f32::NAN,
+                f32::NEG_INFINITY,
+                -1.0,
+                -0.0,
+                0.0,
+                last - 0.5,
+                last,
+                last + 1.0,
+                f32::MAX,
+                f32::INFINITY,
+            ] {
+                assert!(super::bin_at(x, bins) < bins, "{x} of {bins}");
+            }
+        }
+    }
+
     /// The build reserves exactly the nodes its collapse makes (`collapse::plan`):
     /// no slack is kept, and the vector never grows by doubling, for trees of every shape
     /// the build makes, from one object to leaves of coinciding boxes.

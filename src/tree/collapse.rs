@@ -149,6 +149,7 @@ fn lanes_of(pairs: &[Pair], root: Child) -> Plan {
         // what a refit relies on to visit the objects in order).
         let (pair, side) = lanes[k];
         let inner = pairs[pair as usize].index[side as usize];
+        // One lane more: `used < WIDTH` here, so every index written is below `WIDTH`.
         // (A loop of at most six moves: `copy_within` calls `memmove`.)
         for j in (k + 1..used).rev() {
             lanes[j + 1] = lanes[j];

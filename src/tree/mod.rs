@@ -27,7 +27,7 @@ use node::Node;
 
 /// Deepest a tree gets; the traversal stack has this many entries. The build switches to
 /// median splits (which halve the count) well before it: see `build::MEDIAN_FROM_DEPTH`.
-const MAX_DEPTH: usize = 64;
+pub(crate) const MAX_DEPTH: usize = 64;
 
 /// Children per node: eight, one AVX2 instruction's `f32` lanes. (Against four: bounce and
 /// shadow rays faster on meshes of real size, primary rays slower; `docs/performance.md`,

@@ -142,7 +142,8 @@ pub(super) fn centroid_bounds(prims: &[Prim]) -> (DVec3, DVec3) {
         })
 }
 
-/// The bucket of a centroid at `c` along an axis whose centroids span `width` from `lo`.
+/// The bucket of a centroid at `c` along an axis whose centroids span `width` from `lo`:
+/// always below [`BUCKETS`], the arrays' size (the cast saturates, NaN to 0).
 #[inline]
 pub(super) fn bucket(c: f64, lo: f64, width: f64) -> usize {
     (((c - lo) / width * BUCKETS as f64) as usize).min(BUCKETS - 1)

@@ -91,8 +91,16 @@ struct Node {
     leaf: bool,
 }
 
-/// How deep the tree may grow: splits by count from half this depth on keep it within,
-/// for as many lights as `u32` counts.
+/// How deep the tree may grow, and what sizes its walks' buffers. The build splits by its
+/// heuristic above depth 32 (the root's is 0; a split there may take off one light) and
+/// by count, halving, from 32 on, and [`LightTree::new`] takes fewer than `2^31` lights:
+/// a node at depth 32 holds fewer than `2^31 - 32`, so 31 halvings more leave one, and no
+/// leaf is deeper than 63, no inner node deeper than 62. The walks through every node a
+/// ray meets (`nearest`, `density_with`) keep, depth first, at most one entry for each
+/// node above the one they are at and push two, `62 + 2` entries of their `MAX_DEPTH + 2`;
+/// the walk up from a leaf (`reaching`) records one choice a level, at most 63 of
+/// `MAX_DEPTH`. (The test `the_deepest_tree_walks_within_its_buffers` builds a tree to
+/// the heuristic's depth; none of memory's size reaches 63 levels.)
 const MAX_DEPTH: usize = 64;
 
 /// No parent: the root's.
@@ -311,6 +319,7 @@ impl<T: PdfHittable> LightTree<T> {
         hit_light: impl Fn(&T, &Ray, Interval) -> Option<HitRecord>,
     ) -> Option<(usize, HitRecord)> {
         let mut best: Option<(usize, HitRecord)> = None;
+        // At most `MAX_DEPTH` entries (see `MAX_DEPTH`).
         let mut stack = [0u32; MAX_DEPTH + 2];
         let mut top = usize::from(!self.nodes.is_empty());
         while top > 0 {
@@ -673,6 +682,46 @@ mod tests {
                 .hit(&Ray::new(DVec3::ZERO, DVec3::Y), Interval::FORWARD)
                 .is_none()
         );
+    }
+
+    /// The deepest tree the build's heuristic makes: balls along a line, each twice as far
+    /// out and as large as the last, which it splits off one a level down to depth 32, then
+    /// by count. A ray along the line meets every node's box, and the walks through them
+    /// (the nearest hit, the density) and up from each leaf (each light's probability)
+    /// answer as the loop over the lights does, within their buffers (see [`MAX_DEPTH`]).
+    #[test]
+    fn the_deepest_tree_walks_within_its_buffers() {
+        let n = 200;
+        let lights: Vec<Sphere> = (0..n)
+            .map(|i| {
+                let r = 2f64.powi(i);
+                Sphere::new(DVec3::new(3.0 * r, 0.0, 0.0), r).unwrap()
+            })
+            .collect();
+        let tree =
+            LightTree::new(lights.clone(), &[1.0; 200], &[Emission::Everywhere; 200]).unwrap();
+        let depth = |mut n: usize| {
+            let mut d = 0;
+            while tree.parents[n] != super::NONE {
+                (n, d) = (tree.parents[n] as usize, d + 1);
+            }
+            d
+        };
+        let deepest = (0..tree.nodes.len()).map(depth).max().unwrap();
+        assert!(
+            (super::MAX_DEPTH / 2..super::MAX_DEPTH).contains(&deepest),
+            "{deepest}"
+        );
+        let at = ShadingContext::at(DVec3::new(-1.0, 0.0, 0.0));
+        let sum: f64 = (0..n as usize).map(|i| tree.probability(&at, i)).sum();
+        assert!((sum - 1.0).abs() < 1e-12, "{sum}");
+        let ray = Ray::new(at.point, DVec3::X);
+        let want = crate::Hittable::hit(&lights, &ray, Interval::FORWARD);
+        assert_eq!(
+            tree.hit(&ray, Interval::FORWARD).map(|h| h.t),
+            want.map(|h| h.t)
+        );
+        assert!(tree.light_pdf(&at, DVec3::X) > 0.0);
     }
 
     #[test]

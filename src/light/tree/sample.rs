@@ -118,6 +118,7 @@ impl<T: PdfHittable> LightTree<T> {
     /// way down to it, found on the way up and multiplied root first, as the walk down
     /// multiplies them (so that the two agree bit for bit).
     pub(super) fn reaching(&self, mut n: usize, origin: DVec3, normal: Option<DVec3>) -> f64 {
+        // One a level: at most 63 (see `MAX_DEPTH`).
         let mut choices = [0.0; MAX_DEPTH];
         let mut depth = 0;
         while let Some(&parent) = self.parents.get(n).filter(|&&p| p != NONE) {
@@ -243,6 +244,7 @@ impl<T: PdfHittable> LightTree<T> {
         // The lights the direction reaches, found by the boxes the ray meets (a light it
         // reaches lies in the box of every node above it); the walk's probability only for
         // those (most directions reach none, or one), from its leaf up.
+        // At most `MAX_DEPTH` entries (see `MAX_DEPTH`).
         let mut stack = [0u32; MAX_DEPTH + 2];
         let mut top = 1;
         let mut sum = 0.0;
