@@ -8,7 +8,7 @@ use std::path::Path;
 use arbitrary::{Arbitrary, Unstructured};
 use hitkit::glam::{DMat3, DVec3};
 use hitkit_fuzz::seed::{Seed, num, ray, v};
-use hitkit_fuzz::{LightInput, MeshInput, Op, RaySpec, Spec, TreeInput, UpdateInput};
+use hitkit_fuzz::{Crowd, LightInput, MeshInput, Op, RaySpec, Spec, TreeInput, UpdateInput};
 
 /// An offset that rounds every corner built from it (not a power of two), and a size.
 const FAR: f64 = 1.0e9 + 0.3;
@@ -97,7 +97,15 @@ fn main() {
             b: v(c[0] + DVec3::splat(0.5 * size)),
         });
         let rays = rays_at(&c);
-        write(&tree, name, &TreeInput { shapes, rays });
+        write(
+            &tree,
+            name,
+            &TreeInput {
+                shapes,
+                rays,
+                crowd: None,
+            },
+        );
     }
     // Disks, rings and triangles, grazed; and instances stretched and mirrored.
     let mut shapes = Vec::new();
@@ -134,7 +142,11 @@ fn main() {
     write(
         &tree,
         "interiors-and-instances",
-        &TreeInput { shapes, rays },
+        &TreeInput {
+            shapes,
+            rays,
+            crowd: None,
+        },
     );
 
     // A closed mesh (a box of twelve triangles) sharing every edge, and a fan sharing a
@@ -165,6 +177,7 @@ fn main() {
             faces,
             moved: (0..8).map(|i| v(DVec3::splat(1e-3 * i as f64))).collect(),
             rays: rays_at(&c),
+            crowd: None,
         };
         write(&mesh, name, &input);
     }
@@ -185,6 +198,7 @@ fn main() {
                 ray(DVec3::Z, -DVec3::Z),
                 ray(DVec3::new(0.5, 0.0, 1.0), -DVec3::Z),
             ],
+            crowd: None,
         },
     );
 
@@ -207,7 +221,17 @@ fn main() {
         .map(|i| ray(DVec3::new(i as f64 * 5.0, 2.0, 0.0), -DVec3::Y))
         .chain([ray(DVec3::new(-1.0, 0.0, 0.0), DVec3::X)])
         .collect();
-    write(&update, "row", &UpdateInput { start, ops, rays });
+    write(
+        &update,
+        "row",
+        &UpdateInput {
+            start,
+            ops,
+            rays,
+            crowd: None,
+        },
+    );
+    crowds(&root);
 
     // Lights seen from near and far, from beside a corner, from inside a sphere and from
     // within rounding of a plane; every corner of the square.
@@ -270,4 +294,77 @@ fn main() {
         };
         write(&light, name, &input);
     }
+}
+
+/// Crowds, the walks' worst case: every child of every node entered, level after level.
+/// Coincident copies and nested shells of a quad and a ball, strands along a line, a fan of
+/// slivers meeting at a point, and nested balls inserted one by one; rays aimed at where
+/// they meet, from every side.
+fn crowds(root: &Path) {
+    let crowd = |count: u16, shrink: u8, turn: u8, along: DVec3| Crowd {
+        count,
+        shrink,
+        turn,
+        centre: v(DVec3::new(0.25, 0.5, 0.0)),
+        along: v(along),
+        aim: true,
+    };
+    let around: Vec<RaySpec> = (0..12)
+        .map(|k| {
+            let a = k as f64 * 0.55;
+            let from = 4.0 * DVec3::new(a.cos() * a.sin(), a.sin(), a.cos());
+            ray(from, -from)
+        })
+        .collect();
+    let shapes = vec![
+        Spec::Quad {
+            q: v(DVec3::new(-0.5, 0.0, -0.5)),
+            u: v(DVec3::new(1.5, 0.25, 0.0)),
+            v: v(DVec3::new(0.0, 0.25, 1.0)),
+            interior: 0,
+            inner: num(0.0),
+        },
+        Spec::Sphere {
+            centre: v(DVec3::new(0.25, 0.5, 0.0)),
+            radius: num(0.75),
+        },
+    ];
+    let tree = root.join("tree");
+    for (name, crowd) in [
+        ("crowd-coincident", crowd(1023, 0, 0, DVec3::ZERO)),
+        ("crowd-nested", crowd(1023, 200, 0, DVec3::ZERO)),
+        (
+            "crowd-strands",
+            crowd(1023, 0, 64, DVec3::new(0.0, 0.0, 10.0)),
+        ),
+    ] {
+        let input = TreeInput {
+            shapes: shapes.clone(),
+            rays: around.clone(),
+            crowd: Some(crowd),
+        };
+        write(&tree, name, &input);
+    }
+    // A sliver from the crowd's point, turned about the z axis once round: a fan of 1,024.
+    let mesh = MeshInput {
+        vertices: [
+            DVec3::new(0.25, 0.5, 0.0),
+            DVec3::new(1.25, 0.5, 3.0),
+            DVec3::new(1.26, 0.52, 3.0),
+        ]
+        .map(v)
+        .to_vec(),
+        faces: vec![[0, 1, 2]],
+        moved: vec![v(DVec3::ZERO)],
+        rays: around.clone(),
+        crowd: Some(crowd(1023, 0, 255, DVec3::ZERO)),
+    };
+    write(&root.join("mesh"), "crowd-fan", &mesh);
+    let update = UpdateInput {
+        start: vec![(v(DVec3::new(0.25, 0.5, 0.0)), num(2.0))],
+        ops: vec![Op::Optimize(80), Op::Remove(5)],
+        rays: around,
+        crowd: Some(crowd(511, 250, 0, DVec3::ZERO)),
+    };
+    write(&root.join("update"), "crowd-nested-inserts", &update);
 }

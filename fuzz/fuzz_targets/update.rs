@@ -1,6 +1,7 @@
 //! A `Bvh` changed by arbitrary inserts, removals, moves, optimizations and rebuilds answers
 //! every ray as the loop over the objects it holds (by their numbers), as a tree built
-//! anew over them would.
+//! anew over them would. With a crowd, copies of the first ball are inserted first, about
+//! one point or along one line, and the rays aim there.
 
 #![no_main]
 
@@ -8,7 +9,7 @@ use std::collections::BTreeMap;
 
 use hitkit::glam::DVec3;
 use hitkit::{Bvh, Hittable, Sphere};
-use hitkit_fuzz::{Num, Op, UpdateInput, V, check_record, closest};
+use hitkit_fuzz::{Num, Op, UpdateInput, V, check_record, closest, rays};
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|input: UpdateInput| {
@@ -17,6 +18,21 @@ fuzz_target!(|input: UpdateInput| {
     // The live objects by number, as the tree numbers them.
     let mut live: BTreeMap<usize, Sphere> = start.iter().copied().enumerate().collect();
     let mut bvh = Bvh::new(start);
+    if let (Some(crowd), Some(first)) = (&input.crowd, input.start.first()) {
+        // Copies of the first ball inserted one by one, about the crowd's point and along
+        // its line: coincident, nested (each inside the last) or strung out.
+        for i in 0..crowd.count() {
+            let map = crowd.map(i);
+            let (c, r) = (first.0.get(), first.1.0);
+            let copy = (
+                V::of(map.transform_point3(c)),
+                Num(r * map.matrix3.x_axis.length()),
+            );
+            if let Some(s) = ball(&copy) {
+                live.insert(bvh.insert(s), s);
+            }
+        }
+    }
     for op in input.ops.iter().take(64) {
         match op {
             Op::Insert(c, r) => {
@@ -57,8 +73,7 @@ fuzz_target!(|input: UpdateInput| {
     let numbers: Vec<usize> = live.keys().copied().collect();
     let list: Vec<&Sphere> = live.values().collect();
     let rebuilt = Bvh::new(live.values().copied().collect::<Vec<_>>());
-    for spec in &input.rays {
-        let (ray, ray_t) = spec.get();
+    for (ray, ray_t) in rays(&input.rays, input.crowd.as_ref()) {
         let expected = closest(&list, &ray, ray_t);
         let found = bvh.hit_with_index(&ray, ray_t);
         assert_eq!(

@@ -9,7 +9,7 @@ use std::sync::Arc;
 pub mod seed;
 
 use arbitrary::{Arbitrary, Result, Unstructured};
-use hitkit::glam::{DAffine3, DMat3, DVec3};
+use hitkit::glam::{DAffine3, DMat3, DQuat, DVec3};
 use hitkit::{
     Cuboid, Disk, HitRecord, Hittable, Interval, Parallelogram, PdfHittable, Quad, Ray, Ring,
     Sphere, Transformed, Triangle,
@@ -49,6 +49,11 @@ pub struct V(pub Num, pub Num, pub Num);
 impl V {
     pub fn get(self) -> DVec3 {
         DVec3::new(self.0.0, self.1.0, self.2.0)
+    }
+
+    /// `p`, exactly.
+    pub fn of(p: DVec3) -> Self {
+        V(Num(p.x), Num(p.y), Num(p.z))
     }
 }
 
@@ -139,6 +144,50 @@ impl Spec {
         })
     }
 
+    /// The same shape moved by `map` (a turn, a uniform scale and a move), as a scene's
+    /// copies are made: from the moved numbers, through the constructors. (A box stays
+    /// aligned to the axes: the box of its two moved corners.)
+    pub fn moved(&self, map: &DAffine3) -> Spec {
+        let point = |x: &V| V::of(map.transform_point3(x.get()));
+        let vector = |x: &V| V::of(map.transform_vector3(x.get()));
+        match self {
+            Spec::Quad {
+                q,
+                u,
+                v,
+                interior,
+                inner,
+            } => Spec::Quad {
+                q: point(q),
+                u: vector(u),
+                v: vector(v),
+                interior: *interior,
+                inner: *inner,
+            },
+            Spec::Sphere { centre, radius } => Spec::Sphere {
+                centre: point(centre),
+                radius: Num(radius.0 * map.matrix3.x_axis.length()),
+            },
+            Spec::Cuboid { a, b } => Spec::Cuboid {
+                a: point(a),
+                b: point(b),
+            },
+            Spec::Mapped {
+                q,
+                u,
+                v,
+                columns,
+                offset,
+            } => Spec::Mapped {
+                q: *q,
+                u: *u,
+                v: *v,
+                columns: columns.map(|c| vector(&c)),
+                offset: point(offset),
+            },
+        }
+    }
+
     /// The shape, where its constructor takes the numbers.
     pub fn shape(&self) -> Option<Arc<dyn Hittable>> {
         match self {
@@ -148,11 +197,74 @@ impl Spec {
     }
 }
 
+/// Many copies of what an input holds, about one point and along one line: coincident
+/// copies, nested shells, fans of slivers meeting at a point, strands. Trees of them have
+/// every child of every node entered, level after level: the walks' worst case, which
+/// arbitrary shapes and rays almost never reach.
+#[derive(Clone, Copy, Debug, Arbitrary)]
+pub struct Crowd {
+    /// How many copies (see [`Crowd::count`]).
+    pub count: u16,
+    /// Copy `i` of `n` is scaled about `centre` by `1 - shrink / 256 * i / n`: the same
+    /// for 0 (coincident copies), each inside the last otherwise (nested shells).
+    pub shrink: u8,
+    /// Copy `i` of `n` is turned about the line by `turn / 256` of a turn times `i / n`:
+    /// a fan about it (slivers meeting at a point, where a copy has a corner there).
+    pub turn: u8,
+    pub centre: V,
+    /// The line the copies lie along, `centre` to `centre + along` (zero: about one
+    /// point; turned about the z axis then).
+    pub along: V,
+    /// Whether each ray is turned to aim at `centre`, where the crowd meets.
+    pub aim: bool,
+}
+
+impl Crowd {
+    /// Copies to make: 1 to 1,024 (enough for trees of four full levels, and of dozens
+    /// when inserted one by one).
+    pub fn count(&self) -> usize {
+        usize::from(self.count % 1024) + 1
+    }
+
+    /// Copy `i`'s map: scaled and turned about `centre`, moved along the line.
+    pub fn map(&self, i: usize) -> DAffine3 {
+        let share = i as f64 / self.count() as f64;
+        let (centre, along) = (self.centre.get(), self.along.get());
+        let axis = along.try_normalize().unwrap_or(DVec3::Z);
+        let angle = f64::from(self.turn) / 256.0 * std::f64::consts::TAU * share;
+        let scale = 1.0 - f64::from(self.shrink) / 256.0 * share;
+        let turned = DMat3::from_quat(DQuat::from_axis_angle(axis, angle)) * scale;
+        // p -> centre + turned (p - centre) + share along
+        DAffine3::from_mat3_translation(turned, centre - turned * centre + share * along)
+    }
+
+    /// `spec`'s ray, turned to aim at `centre` where asked (and where that is a direction).
+    pub fn ray(&self, spec: &RaySpec) -> (Ray, Interval) {
+        let (ray, ray_t) = spec.get();
+        let toward = self.centre.get() - ray.origin;
+        if self.aim && toward.is_finite() && toward != DVec3::ZERO {
+            (Ray::new(ray.origin, toward), ray_t)
+        } else {
+            (ray, ray_t)
+        }
+    }
+}
+
+/// The rays of `specs`, each aimed by `crowd` where there is one.
+pub fn rays(specs: &[RaySpec], crowd: Option<&Crowd>) -> Vec<(Ray, Interval)> {
+    specs
+        .iter()
+        .map(|s| crowd.map_or_else(|| s.get(), |c| c.ray(s)))
+        .collect()
+}
+
 /// What the `tree` target reads.
 #[derive(Debug, Arbitrary)]
 pub struct TreeInput {
     pub shapes: Vec<Spec>,
     pub rays: Vec<RaySpec>,
+    /// Copies of the shapes, in turn, added to them.
+    pub crowd: Option<Crowd>,
 }
 
 /// What the `mesh` target reads.
@@ -162,6 +274,8 @@ pub struct MeshInput {
     pub faces: Vec<[u8; 3]>,
     pub moved: Vec<V>,
     pub rays: Vec<RaySpec>,
+    /// Copies of the whole mesh, as one mesh (up to 4,096 faces in all).
+    pub crowd: Option<Crowd>,
 }
 
 /// A change the `update` target makes to its tree.
@@ -181,6 +295,8 @@ pub struct UpdateInput {
     pub start: Vec<(V, Num)>,
     pub ops: Vec<Op>,
     pub rays: Vec<RaySpec>,
+    /// Copies of the first ball, inserted one by one before the changes.
+    pub crowd: Option<Crowd>,
 }
 
 /// What the `light` target reads.

@@ -11,7 +11,7 @@
 
 use hitkit::glam::DVec3;
 
-use crate::{LightInput, MeshInput, Num, Op, RaySpec, Spec, TreeInput, UpdateInput, V};
+use crate::{Crowd, LightInput, MeshInput, Num, Op, RaySpec, Spec, TreeInput, UpdateInput, V};
 
 /// A value as the bytes `arbitrary` decodes it from.
 pub trait Seed {
@@ -171,10 +171,21 @@ impl Seed for Op {
     }
 }
 
+impl Seed for Crowd {
+    fn write(&self, out: &mut Vec<u8>) {
+        self.count.write(out);
+        self.shrink.write(out);
+        self.turn.write(out);
+        (self.centre, self.along).write(out);
+        self.aim.write(out);
+    }
+}
+
 impl Seed for TreeInput {
     fn write(&self, out: &mut Vec<u8>) {
         self.shapes.write(out);
         self.rays.write(out);
+        self.crowd.write(out);
     }
 }
 
@@ -184,6 +195,7 @@ impl Seed for MeshInput {
         self.faces.write(out);
         self.moved.write(out);
         self.rays.write(out);
+        self.crowd.write(out);
     }
 }
 
@@ -192,6 +204,7 @@ impl Seed for UpdateInput {
         self.start.write(out);
         self.ops.write(out);
         self.rays.write(out);
+        self.crowd.write(out);
     }
 }
 
@@ -266,6 +279,14 @@ mod tests {
                 },
             ],
             rays: vec![ray(DVec3::ZERO, DVec3::ONE), ray(DVec3::ONE, DVec3::NEG_Y)],
+            crowd: Some(Crowd {
+                count: 700,
+                shrink: 3,
+                turn: 255,
+                centre: v(DVec3::ONE),
+                along: v(DVec3::Z * 1e-3),
+                aim: true,
+            }),
         };
         round_trip(&tree, &tree.bytes());
         let update = UpdateInput {
@@ -278,6 +299,7 @@ mod tests {
                 Op::Rebuild,
             ],
             rays: vec![ray(DVec3::Z, -DVec3::Z)],
+            crowd: None,
         };
         round_trip(&update, &update.bytes());
         let mesh = MeshInput {
@@ -285,6 +307,14 @@ mod tests {
             faces: vec![[0, 1, 255]],
             moved: vec![v(DVec3::Z)],
             rays: vec![ray(DVec3::ZERO, DVec3::X)],
+            crowd: Some(Crowd {
+                count: 0,
+                shrink: 0,
+                turn: 0,
+                centre: v(DVec3::ZERO),
+                along: v(DVec3::ZERO),
+                aim: false,
+            }),
         };
         round_trip(&mesh, &mesh.bytes());
         let light = LightInput {
