@@ -257,6 +257,7 @@ pub(crate) struct Placed {
 /// down; at least that, as lanes leave), kept by [`Bvh::optimize`] as it moves lanes.
 pub(crate) struct Lineage {
     pub(crate) up: Vec<u32>,
+    /// At most [`MAX_DEPTH`] (no place is taken below it), so a byte holds it.
     pub(crate) height: Vec<u8>,
 }
 
