@@ -417,8 +417,9 @@ mod tests {
     /// Balls inserted each inside the last grow the tree a level every seven (each new
     /// ball's cheapest place is beside the innermost), to the deepest tree an insert makes
     /// ([`MAX_DEPTH`](crate::tree::MAX_DEPTH) levels; one more, and the insert rebuilds):
-    /// there a ray through the centre enters every child of every node, and the walk on the
-    /// deep stack answers as the loop over the balls.
+    /// there a ray through the centre enters every child of every node, and the walk
+    /// answers as the loop over the balls. (The stacks' own worst case, every level's
+    /// children pending at once, is `traverse`'s `walks_at_each_stack_bound_...` test.)
     #[test]
     fn inserts_of_nested_balls_reach_the_deepest_tree_which_answers_as_the_loop() {
         use crate::Interval;

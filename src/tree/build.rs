@@ -23,9 +23,8 @@ const TRAVERSAL_COST: f64 = 1.0;
 /// this depth holds fewer than 2^32 of them, so 32 halvings more leave one, and no inner
 /// node of the binary tree lies deeper than `MAX_DEPTH - 2` (the root's depth is 0). A
 /// node of eight takes the place of at least one binary level, so the tree has at most
-/// `MAX_DEPTH - 1` levels of them, within what the walk's stacks hold
-/// (`the_deepest_build_stays_within_max_depth` builds a binary chain that deep; as nodes
-/// of eight, seven binary levels take one).
+/// `MAX_DEPTH - 1` levels of them, within what the walk's stacks hold (as nodes of eight, a
+/// chain of binary levels takes one node for seven: `the_deepest_build_stays_within_max_depth`).
 const MEDIAN_FROM_DEPTH: usize = MAX_DEPTH - 33;
 
 /// One bounded object: its box, and in the `w` lane of `min` its position in the caller's
@@ -509,10 +508,9 @@ pub(crate) fn permute<T>(objects: &mut [T], order: &[u32]) {
 
 #[cfg(test)]
 mod tests {
-    /// Boxes along a line, each twice as far out and as large as the last, which the
-    /// heuristic splits off one a level down to `MEDIAN_FROM_DEPTH` and then by count: the
-    /// build's deepest binary tree, within `MAX_DEPTH` as nodes of eight, whole, and walked
-    /// without a leaf missed or offered twice.
+    /// Boxes along a line, each twice as far out and as large as the last: a chain, the
+    /// deepest kind of tree the heuristic makes, within `MAX_DEPTH` as nodes of eight,
+    /// whole, and walked without a leaf missed or offered twice.
     #[test]
     fn the_deepest_build_stays_within_max_depth() {
         use super::{MAX_DEPTH, Shape, Tree};

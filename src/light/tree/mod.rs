@@ -684,11 +684,12 @@ mod tests {
         );
     }
 
-    /// The deepest tree the build's heuristic makes: balls along a line, each twice as far
-    /// out and as large as the last, which it splits off one a level down to depth 32, then
-    /// by count. A ray along the line meets every node's box, and the walks through them
-    /// (the nearest hit, the density) and up from each leaf (each light's probability)
-    /// answer as the loop over the lights does, within their buffers (see [`MAX_DEPTH`]).
+    /// The deepest kind of tree the build's heuristic makes: balls along a line, each twice
+    /// as far out and as large as the last, nearly a chain down to depth 32, then split by
+    /// count (leaves 39 deep, of 200). A ray along the line meets every node's box, and the
+    /// walks through them (the nearest hit, the density) and up from each leaf (each
+    /// light's probability) answer as the loop over the lights does, within their buffers
+    /// (see [`MAX_DEPTH`]).
     #[test]
     fn the_deepest_tree_walks_within_its_buffers() {
         let n = 200;
