@@ -12,7 +12,7 @@ use hitkit::{
     Bvh, Filtered, HitRecord, Hittable, Interval, Quad, Ray, Sphere, Triangle, TriangleMesh,
 };
 use std::sync::Arc;
-use support::{SplitMix, brute_force};
+use support::{SplitMix, brute_force, loop_over_faces};
 
 /// Rays, each with the interval it is asked within.
 type Rays = Vec<(Ray, Interval)>;
@@ -120,24 +120,13 @@ fn check_bvh<T: Hittable>(what: &str, bvh: &Bvh<T>, model: &[Option<T>], rays: &
 
 /// Every query of `mesh` (and of it filtered) against the loop over its faces on `rays`.
 fn check_mesh(what: &str, mesh: &TriangleMesh, rays: &[(Ray, Interval)]) {
-    let loop_over_faces = |ray: &Ray, ray_t: Interval, keep: &dyn Fn(u32) -> bool| {
-        let mut best: Option<HitRecord> = None;
-        for face in mesh.faces().filter(|f| keep(f.index())) {
-            if let Some(h) = face.hit(ray, ray_t)
-                && best.is_none_or(|b| h.t < b.t || (h.t == b.t && h.primitive < b.primitive))
-            {
-                best = Some(h);
-            }
-        }
-        best
-    };
     let key = |h: Option<HitRecord>| h.map(|h| (h.t.to_bits(), h.primitive));
     let filtered = Filtered::new(mesh, |c: &hitkit::Candidate| {
         !turned_away(c.primitive() as usize)
     });
     let mut hits = 0;
     for (r, &(ray, ray_t)) in rays.iter().enumerate() {
-        let want = loop_over_faces(&ray, ray_t, &|_| true);
+        let want = loop_over_faces(mesh, &ray, ray_t, |_| true);
         hits += usize::from(want.is_some());
         assert_eq!(
             key(mesh.hit(&ray, ray_t)),
@@ -154,7 +143,7 @@ fn check_mesh(what: &str, mesh: &TriangleMesh, rays: &[(Ray, Interval)]) {
             "{what}, ray {r}: occluded"
         );
 
-        let want = loop_over_faces(&ray, ray_t, &|f| !turned_away(f as usize));
+        let want = loop_over_faces(mesh, &ray, ray_t, |f| !turned_away(f as usize));
         assert_eq!(
             key(filtered.hit(&ray, ray_t)),
             key(want),

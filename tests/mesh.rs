@@ -7,13 +7,12 @@ mod support;
 use std::sync::Arc;
 
 use hitkit::glam::{DMat3, DQuat, DVec2, DVec3};
-use hitkit::{
-    Bvh, GeometryError, HitRecord, Hittable, Interval, PdfHittable, Ray, Transformed, TriangleMesh,
-};
+use hitkit::{Bvh, GeometryError, Hittable, Interval, PdfHittable, Ray, Transformed, TriangleMesh};
 use proptest::prelude::*;
 use support::distance::{planar_bound, to_polygon};
 use support::{
-    SplitMix, cube_corner, cube_faces, face_point, icosphere, instances, placements, rotation,
+    SplitMix, cube_corner, cube_faces, face_point, icosphere, instances, loop_over_faces,
+    placements, rotation,
 };
 
 const FORWARD: Interval = Interval::FORWARD;
@@ -29,20 +28,6 @@ fn sphere_mesh(
     let vertices: Vec<DVec3> = unit.iter().map(|&p| centre + rot * (radius * p)).collect();
     let mesh = TriangleMesh::new(&vertices, &faces).unwrap();
     (vertices, faces, mesh)
-}
-
-/// The closest hit of the loop over the faces, one at a time; of hits at exactly the same
-/// `t`, the face numbered first: what the mesh's tree must return.
-fn loop_over_faces(mesh: &TriangleMesh, ray: &Ray, ray_t: Interval) -> Option<HitRecord> {
-    let mut best: Option<HitRecord> = None;
-    for face in mesh.faces() {
-        if let Some(h) = face.hit(ray, ray_t)
-            && best.is_none_or(|b| h.t < b.t || (h.t == b.t && h.primitive < b.primitive))
-        {
-            best = Some(h);
-        }
-    }
-    best
 }
 
 fn corners(vertices: &[DVec3], face: [u32; 3]) -> [DVec3; 3] {
@@ -89,7 +74,7 @@ fn mesh_hits_equal_the_loop_over_its_faces_and_lie_on_them() {
                     Ray::new(aim - size * along, along + 1e-9 * rng.vec3())
                 }
             };
-            let expected = loop_over_faces(&mesh, &ray, FORWARD);
+            let expected = loop_over_faces(&mesh, &ray, FORWARD, |_| true);
             let found = mesh.hit(&ray, FORWARD);
             compared += 1;
             assert_eq!(found, expected, "offset {offset}, size {size}, ray {ray:?}");

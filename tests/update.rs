@@ -11,7 +11,9 @@ use hitkit::{
     Bvh, GeometryError, Hittable, Interval, Plane, Quad, Ray, Sphere, Triangle, TriangleMesh,
 };
 use proptest::prelude::*;
-use support::{OFFSETS, SplitMix, brute_force, face_point, icosphere, meaningful, rotation};
+use support::{
+    OFFSETS, SplitMix, brute_force, face_point, icosphere, loop_over_faces, meaningful, rotation,
+};
 
 const FORWARD: Interval = Interval::FORWARD;
 
@@ -41,19 +43,6 @@ fn step() -> impl Strategy<Value = Step> {
             jump,
             collapse,
         })
-}
-
-/// The closest hit of the loop over the mesh's faces, ties to the face numbered first.
-fn loop_over_faces(mesh: &TriangleMesh, ray: &Ray) -> Option<(Option<u32>, f64)> {
-    let mut best: Option<(Option<u32>, f64)> = None;
-    for face in mesh.faces() {
-        if let Some(h) = face.hit(ray, FORWARD)
-            && best.is_none_or(|(p, t)| h.t < t || (h.t == t && h.primitive < p))
-        {
-            best = Some((h.primitive, h.t));
-        }
-    }
-    best
 }
 
 /// The objects of the trees' tests: about this size, within 10 of it of where they sit.
@@ -185,7 +174,7 @@ proptest! {
             prop_assert!(mesh.cost().now.is_finite() && mesh.cost().now > 0.0);
             for ray in rays_at(&vertices, &faces, &mut rng, size) {
                 let hit = mesh.hit(&ray, FORWARD).map(|h| (h.primitive, h.t));
-                prop_assert_eq!(hit, loop_over_faces(&mesh, &ray), "tree and loop differ");
+                prop_assert_eq!(hit, loop_over_faces(&mesh, &ray, FORWARD, |_| true).map(|h| (h.primitive, h.t)), "tree and loop differ");
                 prop_assert_eq!(
                     hit,
                     fresh.hit(&ray, FORWARD).map(|h| (h.primitive, h.t)),

@@ -72,6 +72,27 @@ pub fn brute_force<T: hitkit::Hittable>(
     best
 }
 
+/// The closest hit of the loop over a mesh's faces that `keep` takes (by the face's
+/// number), ties at equal `t` going to the face numbered first: what the mesh's tree (or a
+/// filter turning away the others) must return.
+pub fn loop_over_faces(
+    mesh: &hitkit::TriangleMesh,
+    ray: &hitkit::Ray,
+    ray_t: hitkit::Interval,
+    keep: impl Fn(u32) -> bool,
+) -> Option<hitkit::HitRecord> {
+    use hitkit::Hittable;
+    let mut best: Option<hitkit::HitRecord> = None;
+    for face in mesh.faces().filter(|f| keep(f.index())) {
+        if let Some(h) = face.hit(ray, ray_t)
+            && best.is_none_or(|b| h.t < b.t || (h.t == b.t && h.primitive < b.primitive))
+        {
+            best = Some(h);
+        }
+    }
+    best
+}
+
 /// The mean of `values` and its standard error (from their sample variance).
 pub fn mean_and_error(values: &[f64]) -> (f64, f64) {
     let n = values.len() as f64;
