@@ -395,7 +395,10 @@ struct Walk<const N: usize> {
 
 impl<const N: usize> Walk<N> {
     /// Walks on until done (`false`) or until a node's children might not fit on the stack
-    /// (`true`: that node is `at`, not yet tested).
+    /// (`true`: that node is `at`, not yet tested). (`cargo mutants` on this walk: what the
+    /// tests do not notice changes no answer, only the cost, which the ledger counts: a
+    /// larger deep stack, spilling to it sooner or always, children taken in another order,
+    /// `t_max`'s limit or a prefetch skipped, `^` for `|` on disjoint bits.)
     #[inline(always)]
     fn run<const NEAREST: bool>(
         &mut self,
