@@ -351,7 +351,8 @@ impl Tree {
         box_ray: &BoxRay,
     ) {
         let mut walk = Walk {
-            stack: [(0, 0, 0.0); SMALL],
+            children: [(0, 0); SMALL],
+            entries: [0.0; SMALL],
             pending: 0,
             at: (0, 0),
             limit: Limit::new(box_ray, *t_max),
@@ -374,20 +375,27 @@ impl Tree {
         box_ray: &BoxRay,
     ) {
         let mut walk = Walk {
-            stack: [(0, 0, 0.0); DEEP],
+            children: [(0, 0); DEEP],
+            entries: [0.0; DEEP],
             pending: small.pending,
             at: small.at,
             limit: small.limit,
         };
-        walk.stack[..small.pending].copy_from_slice(&small.stack[..small.pending]);
+        let pending = small.pending;
+        walk.children[..pending].copy_from_slice(&small.children[..pending]);
+        walk.entries[..pending].copy_from_slice(&small.entries[..pending]);
         walk.run::<NEAREST>(self, t_max, tally, visit, test, box_ray);
     }
 }
 
-/// A walk under way: pending children as (index, count, entry distance), nearest on top,
-/// the child being visited (`count == 0`: a node), and `t_max` as the box test takes it.
+/// A walk under way: pending children as (index, count) and where the ray enters each, in
+/// two arrays, nearest on top; the child being visited (`count == 0`: a node), and `t_max`
+/// as the box test takes it. (Two arrays rather than one of (index, count, entry): 4% to
+/// 6% fewer instructions on a `Bvh`'s shadow rays, the mesh's within 0.3%; one of 16-byte
+/// entries cost 39 more a ray.)
 struct Walk<const N: usize> {
-    stack: [(u32, u32, f32); N],
+    children: [(u32, u32); N],
+    entries: [f32; N],
     pending: usize,
     at: (u32, u32),
     limit: Limit,
@@ -438,7 +446,8 @@ impl<const N: usize> Walk<N> {
                         } else {
                             (first, second)
                         };
-                        self.stack[self.pending] = (node.index[far], node.count[far], t[far]);
+                        self.children[self.pending] = (node.index[far], node.count[far]);
+                        self.entries[self.pending] = t[far];
                         self.pending += 1;
                         self.at = (node.index[near], node.count[near]);
                         continue;
@@ -453,19 +462,19 @@ impl<const N: usize> Walk<N> {
                         // Highest lane first, so that without sorting the lowest is on top.
                         let k = 31 - bits.leading_zeros() as usize;
                         bits &= !(1 << k);
-                        let entry = (node.index[k], node.count[k], t[k]);
                         let mut at = self.pending;
-                        while NEAREST && at > base && self.stack[at - 1].2 < entry.2 {
-                            self.stack[at] = self.stack[at - 1];
+                        while NEAREST && at > base && self.entries[at - 1] < t[k] {
+                            self.children[at] = self.children[at - 1];
+                            self.entries[at] = self.entries[at - 1];
                             at -= 1;
                         }
-                        self.stack[at] = entry;
+                        self.children[at] = (node.index[k], node.count[k]);
+                        self.entries[at] = t[k];
                         self.pending += 1;
                     }
                     self.pending -= 1;
-                    let (i, c, _) = self.stack[self.pending];
-                    self.at = (i, c);
-                    for &(i, c, _) in &self.stack[base..self.pending] {
+                    self.at = self.children[self.pending];
+                    for &(i, c) in &self.children[base..self.pending] {
                         if c == 0 {
                             prefetch(tree, i);
                         }
@@ -487,9 +496,8 @@ impl<const N: usize> Walk<N> {
                     return false;
                 }
                 self.pending -= 1;
-                let (i, c, t_entry) = self.stack[self.pending];
-                if t_entry <= self.limit.up {
-                    self.at = (i, c);
+                if self.entries[self.pending] <= self.limit.up {
+                    self.at = self.children[self.pending];
                     break;
                 }
             }
