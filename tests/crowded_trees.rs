@@ -9,7 +9,7 @@ mod support;
 use hitkit::custom::Made;
 use hitkit::glam::{DMat3, DVec3};
 use hitkit::{
-    Bvh, Filtered, HitRecord, Hittable, Interval, Quad, Ray, Sphere, Triangle, TriangleMesh,
+    Bvh, Filtered, HitRecord, Hittable, Interval, Quad, Ray, Sphere, Triangle, TriangleMesh, Visits,
 };
 use std::sync::Arc;
 use support::{SplitMix, brute_force, loop_over_faces};
@@ -100,21 +100,28 @@ fn check_bvh<T: Hittable>(what: &str, bvh: &Bvh<T>, model: &[Option<T>], rays: &
             "{what}, ray {r}: occluded_filtered"
         );
 
-        let (closest, any) = (
+        let visits = [
             bvh.hit_visits(&ray, ray_t),
             bvh.occluded_visits(&ray, ray_t),
-        );
-        if hit.is_some() {
-            assert!(
-                closest.tests >= 1 && any.tests >= 1,
-                "{what}, ray {r}: visits"
-            );
-        }
+        ];
+        counted(&format!("{what}, ray {r}"), hit.is_some(), visits);
     }
+    crowded(what, hits, rays.len());
+}
+
+/// Where a ray hits, both counters count a test.
+fn counted(what: &str, hit: bool, visits: [Visits; 2]) {
     assert!(
-        hits * 4 >= rays.len(),
-        "{what}: {hits} of {} rays hit: not crowded",
-        rays.len()
+        !hit || visits.iter().all(|v| v.tests >= 1),
+        "{what}: visits {visits:?}"
+    );
+}
+
+/// A quarter of the rays at least hit: the crowd is in their way.
+fn crowded(what: &str, hits: usize, rays: usize) {
+    assert!(
+        hits * 4 >= rays,
+        "{what}: {hits} of {rays} rays hit: not crowded"
     );
 }
 
@@ -128,11 +135,8 @@ fn check_mesh(what: &str, mesh: &TriangleMesh, rays: &[(Ray, Interval)]) {
     for (r, &(ray, ray_t)) in rays.iter().enumerate() {
         let want = loop_over_faces(mesh, &ray, ray_t, |_| true);
         hits += usize::from(want.is_some());
-        assert_eq!(
-            key(mesh.hit(&ray, ray_t)),
-            key(want),
-            "{what}, ray {r}: hit"
-        );
+        let hit = mesh.hit(&ray, ray_t);
+        assert_eq!(key(hit), key(want), "{what}, ray {r}: hit");
         let mut made = Made::new();
         let found = mesh.find(&ray, ray_t, &mut made);
         let record = found.and_then(|f| made.record(mesh, &ray, ray_t, &f));
@@ -155,22 +159,13 @@ fn check_mesh(what: &str, mesh: &TriangleMesh, rays: &[(Ray, Interval)]) {
             "{what}, ray {r}: filtered any"
         );
 
-        let (closest, any) = (
+        let visits = [
             mesh.hit_visits(&ray, ray_t),
             mesh.occluded_visits(&ray, ray_t),
-        );
-        if want.is_some() {
-            assert!(
-                closest.tests >= 1 && any.tests >= 1,
-                "{what}, ray {r}: visits"
-            );
-        }
+        ];
+        counted(&format!("{what}, ray {r}"), hit.is_some(), visits);
     }
-    assert!(
-        hits * 4 >= rays.len(),
-        "{what}: {hits} of {} rays hit: not crowded",
-        rays.len()
-    );
+    crowded(what, hits, rays.len());
 }
 
 /// Rays at `focus` (where the crowd meets) from every side and from `scale` away, from
