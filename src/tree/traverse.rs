@@ -80,11 +80,11 @@ const UNDERFLOW: f64 = 1.0 / (1u128 << 120) as f64;
 /// - [`SMALL`], in the walk's frame, tests a node only where `pending + WIDTH <= SMALL`;
 ///   otherwise the walk goes on on the deep stack from that node, untested. 24 tests a
 ///   node of eight under up to 16 pending (every child of two levels entered, and two
-///   more), where a walk mostly enters one or two children. (It tested up to `pending + WIDTH - 1` and overflowed at 17 pending and
-///   eight children: the ToyCar's crash. Tried: 25, which spills just the walks that
-///   spilled then; its 300 bytes, zeroed on every walk, cost the skylight room's bounces
-///   1.5% more instructions than 288, in callgrind. The kilobyte it once was cost about
-///   70 a ray.)
+///   more), where a walk mostly enters one or two children. (It tested up to
+///   `pending + WIDTH - 1` and overflowed at 17 pending and eight children: the ToyCar's
+///   crash. Tried: 25, which spills just the walks that spilled then; its 300 bytes,
+///   zeroed on every walk, cost the skylight room's bounces 1.5% more instructions than
+///   288, in callgrind. The kilobyte it once was cost about 70 a ray.)
 /// - [`DEEP`] tests every node, so it holds the most a tree of [`MAX_DEPTH`] levels asks:
 ///   `(WIDTH - 1) (MAX_DEPTH - 1) + WIDTH`. No tree has more levels: the build's
 ///   (`build::MEDIAN_FROM_DEPTH`), and an insert refuses a place below it
