@@ -163,7 +163,9 @@
 #![cfg_attr(not(feature = "std"), no_std)]
 #![cfg_attr(docsrs, feature(doc_cfg))]
 #![deny(missing_docs)]
-#![forbid(unsafe_code)]
+// `unsafe` in one module only, `simd::avx` (AVX intrinsics behind a proof that the CPU has
+// them), each block with its `SAFETY:` comment.
+#![deny(unsafe_code)]
 
 #[cfg(not(any(feature = "std", feature = "libm")))]
 compile_error!("hitkit needs float functions: enable the `std` feature (default) or `libm`");

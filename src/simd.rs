@@ -1,6 +1,8 @@
 //! The hot queries compiled a second time for AVX2 and FMA, picked at run time: eight `f32`
 //! lanes in one instruction where the x86-64 baseline (SSE2) has four, so that a node's
-//! eight boxes are one test. The rest of the crate is written once, as portable code.
+//! eight boxes are one test; and four `f64` lanes ([`Lanes`]) for a mesh's face test, AVX's
+//! own where the CPU has it ([`Avx4`], the crate's one use of `unsafe`), `wide`'s portable
+//! ones elsewhere. The rest of the crate is written once, as portable code.
 
 use multiversion::multiversion;
 
@@ -11,9 +13,200 @@ use multiversion::multiversion;
 /// not what it computes (the trees' tests compare both paths on adversarial rays).
 ///
 /// `query` and what it calls are compiled into each version only where they are inlined
-/// into it: the queries passed here are `#[inline(always)]` down to the node test (a
-/// mesh's face tests stay out of line, in the baseline's instructions).
+/// into it: the queries passed here are `#[inline(always)]` down to the node test and a
+/// mesh's face lanes (the one-face test's careful path stays out of line).
 #[multiversion(targets("x86_64+avx2+fma"))]
 pub(crate) fn dispatch<R>(query: impl FnOnce() -> R) -> R {
     query()
+}
+
+/// Four `f64` lanes, as the mesh's face test computes on them: the portable `wide::f64x4`
+/// (two SSE2 instructions an operation on x86-64), and [`Avx4`] where the CPU has AVX2.
+/// Every operation is IEEE's, lane by lane, with no fused multiply-add, so both give the
+/// scalar arithmetic's bits (comparisons ordered: false for NaN, as Rust's).
+pub(crate) trait Lanes:
+    Copy
+    + core::ops::Add<Output = Self>
+    + core::ops::Sub<Output = Self>
+    + core::ops::Mul<Output = Self>
+    + core::ops::Div<Output = Self>
+    + core::ops::Neg<Output = Self>
+{
+    /// What making lanes takes: the proof that the CPU can compute on them.
+    type Token: Copy;
+    /// The outcome of a comparison, lane by lane.
+    type Mask: Copy + core::ops::BitAnd<Output = Self::Mask> + core::ops::BitOr<Output = Self::Mask>;
+    fn splat(token: Self::Token, x: f64) -> Self;
+    fn from_array(token: Self::Token, x: [f64; 4]) -> Self;
+    fn to_array(self) -> [f64; 4];
+    fn abs(self) -> Self;
+    /// The larger of each pair, for numbers (neither NaN, nor two zeros of either sign).
+    fn max(self, other: Self) -> Self;
+    fn gt(self, other: Self) -> Self::Mask;
+    fn lt(self, other: Self) -> Self::Mask;
+    /// Bit `i` for lane `i` where `mask` holds.
+    fn bits(mask: Self::Mask) -> u32;
+}
+
+impl Lanes for wide::f64x4 {
+    type Token = ();
+    type Mask = Self;
+    #[inline(always)]
+    fn splat((): (), x: f64) -> Self {
+        wide::f64x4::splat(x)
+    }
+    #[inline(always)]
+    fn from_array((): (), x: [f64; 4]) -> Self {
+        wide::f64x4::from(x)
+    }
+    #[inline(always)]
+    fn to_array(self) -> [f64; 4] {
+        wide::f64x4::to_array(self)
+    }
+    #[inline(always)]
+    fn abs(self) -> Self {
+        wide::f64x4::abs(self)
+    }
+    #[inline(always)]
+    fn max(self, other: Self) -> Self {
+        self.fast_max(other)
+    }
+    #[inline(always)]
+    fn gt(self, other: Self) -> Self {
+        wide::CmpGt::cmp_gt(self, other)
+    }
+    #[inline(always)]
+    fn lt(self, other: Self) -> Self {
+        wide::CmpLt::cmp_lt(self, other)
+    }
+    #[inline(always)]
+    fn bits(mask: Self) -> u32 {
+        mask.move_mask() as u32
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+pub(crate) use avx::{Avx2, Avx4};
+
+/// No AVX2 off x86-64: a proof that cannot be made.
+#[cfg(not(target_arch = "x86_64"))]
+#[derive(Clone, Copy, Debug)]
+pub(crate) enum Avx2 {}
+
+#[cfg(not(target_arch = "x86_64"))]
+impl Avx2 {
+    pub(crate) fn detect() -> Option<Self> {
+        None
+    }
+}
+
+/// AVX2's four `f64` lanes in one register, behind a proof that the CPU has them: the one
+/// module of the crate with `unsafe`, for the intrinsics' calls (safe to make only where
+/// the CPU has the feature, which no function here can say to the compiler).
+#[cfg(target_arch = "x86_64")]
+#[allow(unsafe_code)]
+mod avx {
+    use core::arch::x86_64::{
+        __m256d, _CMP_GT_OQ, _CMP_LT_OQ, _mm256_add_pd, _mm256_and_pd, _mm256_andnot_pd,
+        _mm256_cmp_pd, _mm256_div_pd, _mm256_max_pd, _mm256_movemask_pd, _mm256_mul_pd,
+        _mm256_or_pd, _mm256_set_pd, _mm256_set1_pd, _mm256_sub_pd, _mm256_xor_pd,
+    };
+
+    /// Proof that the CPU has AVX2 and FMA (what [`dispatch`](super::dispatch) picks its
+    /// wide copy by): made only by [`Avx2::detect`].
+    #[derive(Clone, Copy, Debug)]
+    pub(crate) struct Avx2(());
+
+    impl Avx2 {
+        /// The proof, where the CPU gives it: detected at run time with `std` (a cached
+        /// load after the first call), where the build targets both features without.
+        #[inline(always)]
+        pub(crate) fn detect() -> Option<Self> {
+            #[cfg(feature = "std")]
+            let found = std::arch::is_x86_feature_detected!("avx2")
+                && std::arch::is_x86_feature_detected!("fma");
+            #[cfg(not(feature = "std"))]
+            let found = cfg!(all(target_feature = "avx2", target_feature = "fma"));
+            found.then_some(Self(()))
+        }
+    }
+
+    /// Four `f64` lanes in an AVX register. Only [`Avx2`] makes one (`splat`,
+    /// `from_array`), and every operation takes one in, so no value of this type exists on
+    /// a CPU without AVX2: that is what makes each intrinsic's call below sound.
+    #[derive(Clone, Copy, Debug)]
+    pub(crate) struct Avx4(__m256d);
+
+    /// An intrinsic's call on lanes that exist (see [`Avx4`]).
+    macro_rules! avx {
+        ($e:expr) => {
+            // SAFETY: an `Avx4` (an argument here, or the `Avx2` proof for a new one)
+            // exists only where the CPU has AVX2, so its instructions can run.
+            unsafe { $e }
+        };
+    }
+
+    macro_rules! operator {
+        ($trait:ident, $method:ident, $intrinsic:ident) => {
+            impl core::ops::$trait for Avx4 {
+                type Output = Self;
+                #[inline(always)]
+                fn $method(self, other: Self) -> Self {
+                    Self(avx!($intrinsic(self.0, other.0)))
+                }
+            }
+        };
+    }
+    operator!(Add, add, _mm256_add_pd);
+    operator!(Sub, sub, _mm256_sub_pd);
+    operator!(Mul, mul, _mm256_mul_pd);
+    operator!(Div, div, _mm256_div_pd);
+    operator!(BitAnd, bitand, _mm256_and_pd);
+    operator!(BitOr, bitor, _mm256_or_pd);
+
+    impl core::ops::Neg for Avx4 {
+        type Output = Self;
+        #[inline(always)]
+        fn neg(self) -> Self {
+            Self(avx!(_mm256_xor_pd(self.0, _mm256_set1_pd(-0.0))))
+        }
+    }
+
+    impl super::Lanes for Avx4 {
+        type Token = Avx2;
+        type Mask = Self;
+        #[inline(always)]
+        fn splat(_: Avx2, x: f64) -> Self {
+            Self(avx!(_mm256_set1_pd(x)))
+        }
+        #[inline(always)]
+        fn from_array(_: Avx2, [a, b, c, d]: [f64; 4]) -> Self {
+            Self(avx!(_mm256_set_pd(d, c, b, a)))
+        }
+        #[inline(always)]
+        fn to_array(self) -> [f64; 4] {
+            // SAFETY: four `f64` in 32 bytes either way, and every bit pattern is one.
+            unsafe { core::mem::transmute::<__m256d, [f64; 4]>(self.0) }
+        }
+        #[inline(always)]
+        fn abs(self) -> Self {
+            Self(avx!(_mm256_andnot_pd(_mm256_set1_pd(-0.0), self.0)))
+        }
+        #[inline(always)]
+        fn max(self, other: Self) -> Self {
+            Self(avx!(_mm256_max_pd(self.0, other.0)))
+        }
+        #[inline(always)]
+        fn gt(self, other: Self) -> Self {
+            Self(avx!(_mm256_cmp_pd::<_CMP_GT_OQ>(self.0, other.0)))
+        }
+        #[inline(always)]
+        fn lt(self, other: Self) -> Self {
+            Self(avx!(_mm256_cmp_pd::<_CMP_LT_OQ>(self.0, other.0)))
+        }
+        #[inline(always)]
+        fn bits(mask: Self) -> u32 {
+            avx!(_mm256_movemask_pd(mask.0)) as u32
+        }
+    }
 }

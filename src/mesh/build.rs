@@ -134,6 +134,7 @@ impl TriangleMesh {
             material: MaterialId::default(),
             area_sums: Vec::with_capacity(blocks),
             built_cost,
+            lanes: crate::simd::Avx2::detect(),
         };
         mesh.sum_areas();
         Ok(mesh)

@@ -14,16 +14,17 @@ use crate::math::{Dd, UNIT_ROUNDOFF, direction_scale, gamma, l1};
 /// exactly, so every sign is the same), so that `1 / d_z` is finite for a direction of any
 /// length; `t` is scaled back.
 pub(super) struct Sheared {
-    origin: DVec3,
+    pub(super) origin: DVec3,
     /// The scaled direction.
     direction: DVec3,
-    /// The axis of the direction's largest component.
-    kz: usize,
+    /// The axes in the permuted frame's order: `axes[2]` is the direction's largest
+    /// component.
+    pub(super) axes: [usize; 3],
     /// `-d_x / d_z` and `-d_y / d_z` in the permuted frame, and `1 / d_z`.
-    shear: DVec3,
+    pub(super) shear: DVec3,
     /// What the direction was scaled by: `t` along the scaled direction is `t * scale`
     /// along the ray's own.
-    scale: f64,
+    pub(super) scale: f64,
 }
 
 /// A face the ray crosses: `t`, a bound on its error, and what gives the barycentric
@@ -40,6 +41,20 @@ pub(super) struct Crossing {
 }
 
 impl Crossing {
+    /// Every field's bits, for tests that compare two ways of computing a crossing.
+    #[cfg(test)]
+    pub(super) fn bits(&self) -> [u64; 6] {
+        [
+            self.t,
+            self.t_error,
+            self.edges.x,
+            self.edges.y,
+            self.edges.z,
+            self.det,
+        ]
+        .map(f64::to_bits)
+    }
+
     /// The barycentric weights of the face's three corners: divided out only for the
     /// crossing a query keeps (a shadow ray needs none).
     #[inline]
@@ -58,7 +73,7 @@ impl Crossing {
 /// `EDGE_ERROR m_1 m_2` holds too and costs less: the test tries it first. The tight one
 /// matters for rays from far away (`m` much larger than the face), where the loose one
 /// would leave every sign in doubt.
-const EDGE_ERROR: f64 = 2.0 * (4.0 * gamma(5) + 2.0 * gamma(2));
+pub(super) const EDGE_ERROR: f64 = 2.0 * (4.0 * gamma(5) + 2.0 * gamma(2));
 
 /// The same for the determinant as double-double arithmetic computes it ([`settle`]),
 /// `(p - o) . ((q - p) x d)`, over `|p - o|_1 |q - p|_1 |d|_1`: the differences are exact,
@@ -92,7 +107,7 @@ impl Sheared {
         shear.is_finite().then_some(Self {
             origin: ray.origin,
             direction,
-            kz,
+            axes: [[1, 2, 0], [2, 0, 1], [0, 1, 2]][kz],
             shear,
             scale,
         })
@@ -114,9 +129,9 @@ impl Sheared {
     #[inline(always)]
     pub(super) fn test(&self, p: &[DVec3; 3], t_min: f64) -> Option<Crossing> {
         let s = self.shear;
-        let a0 = permute(p[0] - self.origin, self.kz);
-        let a1 = permute(p[1] - self.origin, self.kz);
-        let a2 = permute(p[2] - self.origin, self.kz);
+        let a0 = permute(p[0] - self.origin, self.axes[2]);
+        let a1 = permute(p[1] - self.origin, self.axes[2]);
+        let a2 = permute(p[2] - self.origin, self.axes[2]);
         let (x0, y0) = (a0.x + s.x * a0.z, a0.y + s.y * a0.z);
         let (x1, y1) = (a1.x + s.x * a1.z, a1.y + s.y * a1.z);
         let (x2, y2) = (a2.x + s.x * a2.z, a2.y + s.y * a2.z);
@@ -124,8 +139,8 @@ impl Sheared {
         let e1 = x2 * y0 - y2 * x0;
         let e2 = x0 * y1 - y0 * x1;
         // Mixed signs, each beyond its bound: a miss (the common case), decided without
-        // the bounds where the signs are not mixed. (Tried: a leaf's four faces at once in
-        // `f64` lanes, slower on every cell of the triad; faces behind `t_min` dropped
+        // the bounds where the signs are not mixed. (A mesh's walk takes these steps for a
+        // leaf's faces at once, in lanes: `block.rs`. Tried: faces behind `t_min` dropped
         // first, no faster; a first pass in `f32` on copies of the corners, slower and
         // larger.)
         let (m0, m1, m2) = (l1(a0), l1(a1), l1(a2));
@@ -195,6 +210,30 @@ impl Sheared {
         if self.scale == 1.0 && t - 2.0 * gamma(4) * z_scaled < t_min {
             return None;
         }
+        self.finish(
+            [(x0, y0, a0), (x1, y1, a1), (x2, y2, a2)],
+            edges,
+            det,
+            t,
+            z_scaled,
+        )
+    }
+
+    /// The test's last step, once a face is crossed and not dropped before `t_min`: the
+    /// bound on `t`'s error, and `t` along the ray's own direction. `corners` are the
+    /// sheared `x`, `y` and the permuted offset from the origin of each corner, `edges` the
+    /// oriented edge functions and `det` their sum, `z_scaled` the corners' largest depth
+    /// times `|1 / d_z|`. (Shared by the test of one face and of four.)
+    #[inline(always)]
+    pub(super) fn finish(
+        &self,
+        corners: [(f64, f64, DVec3); 3],
+        edges: DVec3,
+        det: f64,
+        t: f64,
+        z_scaled: f64,
+    ) -> Option<Crossing> {
+        let s = self.shear;
         // The edge functions' error, from what enters each corner's sheared coordinates,
         // `X = |a_x| + |s_x a_z|` and `Y = |a_y| + |s_y a_z|`: each coordinate is within
         // `gamma(4)` of them of its exact value (the difference's rounding, `s`'s, the
@@ -207,7 +246,7 @@ impl Sheared {
         // edge function set to zero against its computed sign (the exact value is then
         // within it of zero).
         let size = |a: DVec3| (a.x.abs() + (s.x * a.z).abs(), a.y.abs() + (s.y * a.z).abs());
-        let corners = [(x0, y0, size(a0)), (x1, y1, size(a1)), (x2, y2, size(a2))];
+        let corners = corners.map(|(x, y, a)| (x, y, size(a)));
         let edge = |(xi, yi, (bxi, byi)): (f64, f64, (f64, f64)),
                     (xj, yj, (bxj, byj)): (f64, f64, (f64, f64))| {
             let g = gamma(4);
@@ -260,7 +299,7 @@ fn settle(ray: &Sheared, p: DVec3, q: DVec3) -> Option<f64> {
     let value = a[0].mul(c[0]).add(a[1].mul(c[1])).add(a[2].mul(c[2])).hi;
     let size = |x: [Dd; 3]| x[0].hi.abs() + x[1].hi.abs() + x[2].hi.abs();
     let bound = EDGE_ERROR_DD * size(a) * size(e) * d.abs().element_sum();
-    let d_z = d[ray.kz];
+    let d_z = d[ray.axes[2]];
     (value.abs() > bound).then(|| {
         if (value > 0.0) == (d_z > 0.0) {
             1.0
@@ -324,7 +363,7 @@ fn sign(e: f64) -> f64 {
     }
 }
 
-/// `v` with its axes permuted cyclically so that axis `kz` comes last.
+/// `v` with its axes permuted cyclically so that axis `kz` comes last (`Sheared::axes`' order).
 #[inline(always)]
 fn permute(v: DVec3, kz: usize) -> DVec3 {
     match kz {

@@ -3,6 +3,7 @@
 
 // By operation: build, update (refit), query (the tree's walks), intersect (the face
 // test), sample (a mesh as a light), face (one face as a shape), filter (cut-outs).
+mod block;
 mod build;
 mod face;
 mod filter;
@@ -105,6 +106,9 @@ pub struct TriangleMesh {
     area_sums: Vec<f64>,
     /// The tree's cost at its build (see [`TriangleMesh::cost`]).
     built_cost: f64,
+    /// Where the CPU has AVX2 (detected once, at the build, as Embree picks its kernels at
+    /// commit): a leaf's faces are tested in its lanes, else in `wide`'s portable ones.
+    lanes: Option<crate::simd::Avx2>,
 }
 
 /// How many faces share one running sum of areas: sampling by area finds the block by

@@ -4,6 +4,7 @@
 
 use glam::{DVec2, DVec3};
 
+use super::block::LANES;
 use super::intersect::{Crossing, Sheared};
 use super::{TriangleMesh, corners, face_box};
 use crate::aabb::BoxRay;
@@ -37,8 +38,21 @@ impl TriangleMesh {
         ray_t: Interval,
         position: usize,
     ) -> Option<Crossing> {
-        let p = self.corners_at(position);
-        let mut crossing = sheared.test(&p, ray_t.min)?;
+        let crossing = sheared.test(&self.corners_at(position), ray_t.min)?;
+        self.keep::<ANY>(crossing, box_ray, ray, ray_t, position)
+    }
+
+    /// [`TriangleMesh::cross`] after the face test: whether the test's `crossing` of the
+    /// face at `position` counts.
+    #[inline(always)]
+    pub(super) fn keep<const ANY: bool>(
+        &self,
+        mut crossing: Crossing,
+        box_ray: &mut Option<BoxRay>,
+        ray: &Ray,
+        ray_t: Interval,
+        position: usize,
+    ) -> Option<Crossing> {
         let beyond = crossing.t - crossing.t_error >= ray_t.min || ray_t.min == f64::NEG_INFINITY;
         // (The face a bounce or shadow ray leaves is crossed at about zero, and rejected
         // here, before its box is computed.)
@@ -55,7 +69,7 @@ impl TriangleMesh {
                 return Some(crossing);
             }
         }
-        crossing.t = face_box(p).clamp_hit_on(ray, box_ray, crossing.t)?;
+        crossing.t = face_box(self.corners_at(position)).clamp_hit_on(ray, box_ray, crossing.t)?;
         if !ray_t.contains(crossing.t) {
             return None;
         }
@@ -102,33 +116,47 @@ impl TriangleMesh {
         let mut t_max = ray_t.max;
         let order = &self.tree.order;
         let mut tests = 0u32;
-        // The leaf's face tests out of line, here and in `any`: the node loop stays small.
-        // (Tried: inlined into it; no faster, bounces slower. Tried: a pass over leaf blocks
-        // of four faces in `f32` lanes ruling out certain misses first; more instructions a
-        // ray, `docs/performance.md`.)
+        // A leaf's faces tested together, in lanes (`block.rs`), inlined into the walk here
+        // and in `any` so that the lanes are AVX2's where the walk is compiled for it.
+        // (Tried: a pass over leaf blocks of four faces in `f32` lanes ruling out certain
+        // misses first; the first step alone in `f64` lanes; both more instructions a ray,
+        // `docs/performance.md`.)
         self.tree.walk::<true>(
             ray,
             ray_t,
             &mut t_max,
             tally,
-            #[inline(never)]
+            #[inline(always)]
             |first, count, t_max| {
                 tests += count as u32;
-                for position in first..first + count {
-                    if let Some(c) = self.cross::<false>(
-                        &sheared,
-                        &mut box_ray,
-                        ray,
-                        Interval::new(ray_t.min, *t_max),
-                        position,
-                    ) && wins(c.t, *t_max, || {
-                        let best = closest.map(|(best, _)| order[best] as usize);
-                        (order[position] as usize, best)
-                    }) && accept(position, &c)
-                    {
-                        *t_max = c.t;
-                        closest = Some((position, c));
-                    }
+                for block in (first..first + count).step_by(LANES) {
+                    let end = (block + LANES).min(first + count);
+                    let faces = &self.triangles[block..end];
+                    sheared.test_block(
+                        self.lanes,
+                        &self.vertices,
+                        faces,
+                        ray_t.min,
+                        #[inline(always)]
+                        |i, c| {
+                            let position = block + i;
+                            if let Some(c) = self.keep::<false>(
+                                c,
+                                &mut box_ray,
+                                ray,
+                                Interval::new(ray_t.min, *t_max),
+                                position,
+                            ) && wins(c.t, *t_max, || {
+                                let best = closest.map(|(best, _)| order[best] as usize);
+                                (order[position] as usize, best)
+                            }) && accept(position, &c)
+                            {
+                                *t_max = c.t;
+                                closest = Some((position, c));
+                            }
+                            false
+                        },
+                    );
                 }
                 false
             },
@@ -158,13 +186,34 @@ impl TriangleMesh {
             ray_t,
             &mut t_max,
             tally,
-            #[inline(never)]
+            #[inline(always)]
             |first, count, _| {
-                found = (first..first + count).any(|p| {
-                    tests += 1;
-                    self.cross::<true>(&sheared, &mut box_ray, ray, ray_t, p)
-                        .is_some_and(|c| accept(p, &c))
-                });
+                for block in (first..first + count).step_by(LANES) {
+                    let end = (block + LANES).min(first + count);
+                    let faces = &self.triangles[block..end];
+                    // (Counted as the faces before the one found, and that one.)
+                    found = sheared.test_block(
+                        self.lanes,
+                        &self.vertices,
+                        faces,
+                        ray_t.min,
+                        #[inline(always)]
+                        |i, c| {
+                            let position = block + i;
+                            let kept = self
+                                .keep::<true>(c, &mut box_ray, ray, ray_t, position)
+                                .is_some_and(|c| accept(position, &c));
+                            if kept {
+                                tests += i as u32 + 1;
+                            }
+                            kept
+                        },
+                    );
+                    if found {
+                        break;
+                    }
+                    tests += faces.len() as u32;
+                }
                 found
             },
         );
