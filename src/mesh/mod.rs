@@ -22,7 +22,7 @@ use alloc::vec::Vec;
 use glam::{DVec2, DVec3};
 
 use crate::record::{Found, Made};
-use crate::simd::dispatch;
+use crate::simd::dispatch_with;
 use crate::tree::{Shape, Tree};
 use crate::{Aabb, GeometryError, HitRecord, Hittable, Interval, MaterialId, Ray};
 
@@ -252,7 +252,8 @@ impl TriangleMesh {
 
 impl Hittable for TriangleMesh {
     fn hit(&self, ray: &Ray, ray_t: Interval) -> Option<HitRecord> {
-        let (position, crossing) = dispatch(
+        let (position, crossing) = dispatch_with(
+            self.lanes,
             #[inline(always)]
             || self.closest(ray, ray_t, &mut (), |_, _| true),
         )?;
@@ -261,7 +262,8 @@ impl Hittable for TriangleMesh {
 
     /// The face's barycentrics in `coords`, its position in the tree's order in `part`.
     fn find(&self, ray: &Ray, ray_t: Interval, _: &mut Made) -> Option<Found> {
-        let (position, crossing) = dispatch(
+        let (position, crossing) = dispatch_with(
+            self.lanes,
             #[inline(always)]
             || self.closest(ray, ray_t, &mut (), |_, _| true),
         )?;
@@ -287,7 +289,8 @@ impl Hittable for TriangleMesh {
 
     /// Stops at the first face found that the ray crosses within `ray_t`.
     fn occluded(&self, ray: &Ray, ray_t: Interval) -> bool {
-        dispatch(
+        dispatch_with(
+            self.lanes,
             #[inline(always)]
             || self.any(ray, ray_t, &mut (), |_, _| true),
         )
