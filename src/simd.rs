@@ -20,21 +20,6 @@ pub(crate) fn dispatch<R>(query: impl FnOnce() -> R) -> R {
     query()
 }
 
-/// [`dispatch`] by a choice made already (a mesh's, when it was built, as Embree picks its
-/// kernels at commit): `query` compiled for AVX2 and FMA where `avx` proves the CPU has
-/// them, for the baseline otherwise. It saves the detection's check and the dispatcher's
-/// frame on every query (about 20 instructions of a ray that misses).
-#[inline(always)]
-pub(crate) fn dispatch_with<R>(avx: Option<Avx2>, query: impl FnOnce() -> R) -> R {
-    #[cfg(target_arch = "x86_64")]
-    if let Some(avx) = avx {
-        return avx.run(query);
-    }
-    #[cfg(not(target_arch = "x86_64"))]
-    let _ = avx;
-    query()
-}
-
 /// Four `f64` lanes, as the mesh's face test computes on them: the portable `wide::f64x4`
 /// (two SSE2 instructions an operation on x86-64), and [`Avx4`] where the CPU has AVX2.
 /// Every operation is IEEE's, lane by lane, with no fused multiply-add, so both give the

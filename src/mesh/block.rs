@@ -9,9 +9,7 @@ use glam::DVec3;
 
 use super::intersect::{Crossing, EDGE_ERROR, Sheared};
 use crate::math::gamma;
-#[cfg(target_arch = "x86_64")]
-use crate::simd::Avx4;
-use crate::simd::{Avx2, Lanes};
+use crate::simd::Lanes;
 
 /// Faces a block holds: the mesh's leaves hold at most this many (`MESH_SHAPE`).
 pub(super) const LANES: usize = 4;
@@ -46,7 +44,7 @@ fn offsets<L: Lanes>(
 
 impl Sheared {
     /// What [`Sheared::test`] answers for each of `faces` (one to [`LANES`] of them, as
-    /// indices into `vertices`): `found(i, crossing)` for each face `i` crossed, in their
+    /// indices into `vertices`), computed in lanes of `L`: `found(i, crossing)` for each face `i` crossed, in their
     /// order, until it returns `true` (and then `true`).
     ///
     /// The corners are gathered into lanes (a block of fewer faces repeats its last one,
@@ -56,26 +54,7 @@ impl Sheared {
     /// its `t`, its determinant and the drop before `t_min` are computed in lanes too, its
     /// error bound (for the few crossings that survive) by the one-face test's last step.
     #[inline(always)]
-    pub(super) fn test_block(
-        &self,
-        avx: Option<Avx2>,
-        vertices: &[DVec3],
-        faces: &[[u32; 3]],
-        t_min: f64,
-        found: impl FnMut(usize, Crossing) -> bool,
-    ) -> bool {
-        #[cfg(target_arch = "x86_64")]
-        if let Some(avx) = avx {
-            return self.test_lanes::<Avx4>(avx, vertices, faces, t_min, found);
-        }
-        #[cfg(not(target_arch = "x86_64"))]
-        let _ = avx;
-        self.test_lanes::<wide::f64x4>((), vertices, faces, t_min, found)
-    }
-
-    /// [`Sheared::test_block`] in lanes of `L`.
-    #[inline(always)]
-    fn test_lanes<L: Lanes>(
+    pub(super) fn test_block<L: Lanes>(
         &self,
         token: L::Token,
         vertices: &[DVec3],
@@ -219,7 +198,7 @@ mod tests {
             for n in 1..=LANES.min(faces.len() - start) {
                 let block = &faces[start..start + n];
                 let mut lanes = [None; LANES];
-                let stopped = sheared.test_lanes::<L>(token, vertices, block, t_min, |i, c| {
+                let stopped = sheared.test_block::<L>(token, vertices, block, t_min, |i, c| {
                     assert!(lanes[i].is_none(), "lane {i} offered twice");
                     lanes[i] = Some(c.bits());
                     false
@@ -331,7 +310,7 @@ mod tests {
             return;
         };
         each_case(|vertices, faces, ray, t_min| {
-            agree::<super::Avx4>(avx, vertices, faces, ray, t_min)
+            agree::<crate::simd::Avx4>(avx, vertices, faces, ray, t_min)
         });
     }
 }

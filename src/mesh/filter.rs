@@ -7,7 +7,6 @@ use glam::DVec2;
 use super::TriangleMesh;
 use super::intersect::Crossing;
 use crate::record::{Found, Made};
-use crate::simd::dispatch_with;
 use crate::{Aabb, HitRecord, Hittable, Interval, Ray};
 
 /// A crossing of a face that a [`Filtered`] mesh's filter is asked about: where along the
@@ -166,11 +165,13 @@ where
     #[inline]
     fn closest(&self, ray: &Ray, ray_t: Interval) -> Option<(usize, Crossing)> {
         let mesh = self.mesh.as_ref();
-        dispatch_with(
-            mesh.lanes,
-            #[inline(always)]
-            || mesh.closest(ray, ray_t, &mut (), |p, c| self.accepts(ray, p, c)),
-        )
+        kernel!(mesh, |lanes, L| mesh.closest::<L>(
+            lanes,
+            ray,
+            ray_t,
+            &mut (),
+            |p, c| self.accepts(ray, p, c)
+        ))
     }
 }
 
@@ -208,10 +209,12 @@ where
 
     fn occluded(&self, ray: &Ray, ray_t: Interval) -> bool {
         let mesh = self.mesh.as_ref();
-        dispatch_with(
-            mesh.lanes,
-            #[inline(always)]
-            || mesh.any(ray, ray_t, &mut (), |p, c| self.accepts(ray, p, c)),
-        )
+        kernel!(mesh, |lanes, L| mesh.any::<L>(
+            lanes,
+            ray,
+            ray_t,
+            &mut (),
+            |p, c| self.accepts(ray, p, c)
+        ))
     }
 }

@@ -86,12 +86,12 @@ const EDGE_ERROR_DD: f64 = 256.0 * UNIT_ROUNDOFF * UNIT_ROUNDOFF;
 const LARGEST: f64 = 1e150;
 
 impl Sheared {
-    /// `None` for a ray that cannot be traced.
+    /// `None` for a direction that cannot be traced (zero, infinite or NaN: its shear is
+    /// not finite). An origin that is not finite is left to the test, which crosses no face
+    /// from it (its offsets are NaN or beyond `LARGEST`), and to the walks, which check the
+    /// whole ray before their first box.
     #[inline(always)]
     pub(super) fn new(ray: &Ray) -> Option<Self> {
-        if !ray.is_valid() {
-            return None;
-        }
         let scale = direction_scale(ray.direction);
         let direction = ray.direction * scale;
         let d = direction.abs();

@@ -1,6 +1,30 @@
 //! [`TriangleMesh`]: triangles that share their vertices, with a tree of their own,
 //! watertight by construction.
 
+/// Runs `$query` in the lanes the mesh picked when it was built: with `$L` AVX2's four
+/// `f64` lanes and the whole query compiled for AVX2 where the CPU has it, `wide`'s
+/// portable ones otherwise; `$token` is what makes them. (Once per query, and no check
+/// per leaf: as Embree picks its kernels at commit.)
+macro_rules! kernel {
+    ($mesh:expr, |$token:ident, $L:ident| $query:expr) => {
+        match $mesh.lanes {
+            #[cfg(target_arch = "x86_64")]
+            Some($token) => {
+                type $L = crate::simd::Avx4;
+                $token.run(
+                    #[inline(always)]
+                    || $query,
+                )
+            }
+            _ => {
+                type $L = wide::f64x4;
+                let $token = ();
+                $query
+            }
+        }
+    };
+}
+
 // By operation: build, update (refit), query (the tree's walks), intersect (the face
 // test), sample (a mesh as a light), face (one face as a shape), filter (cut-outs).
 mod block;
@@ -22,7 +46,6 @@ use alloc::vec::Vec;
 use glam::{DVec2, DVec3};
 
 use crate::record::{Found, Made};
-use crate::simd::dispatch_with;
 use crate::tree::{Shape, Tree};
 use crate::{Aabb, GeometryError, HitRecord, Hittable, Interval, MaterialId, Ray};
 
@@ -252,21 +275,25 @@ impl TriangleMesh {
 
 impl Hittable for TriangleMesh {
     fn hit(&self, ray: &Ray, ray_t: Interval) -> Option<HitRecord> {
-        let (position, crossing) = dispatch_with(
-            self.lanes,
-            #[inline(always)]
-            || self.closest(ray, ray_t, &mut (), |_, _| true),
-        )?;
+        let (position, crossing) = kernel!(self, |lanes, L| self.closest::<L>(
+            lanes,
+            ray,
+            ray_t,
+            &mut (),
+            |_, _| true
+        ))?;
         self.record_at(ray, position, crossing.t, crossing.barycentric())
     }
 
     /// The face's barycentrics in `coords`, its position in the tree's order in `part`.
     fn find(&self, ray: &Ray, ray_t: Interval, _: &mut Made) -> Option<Found> {
-        let (position, crossing) = dispatch_with(
-            self.lanes,
-            #[inline(always)]
-            || self.closest(ray, ray_t, &mut (), |_, _| true),
-        )?;
+        let (position, crossing) = kernel!(self, |lanes, L| self.closest::<L>(
+            lanes,
+            ray,
+            ray_t,
+            &mut (),
+            |_, _| true
+        ))?;
         Some(Found::new(
             crossing.t,
             crossing.barycentric(),
@@ -289,10 +316,12 @@ impl Hittable for TriangleMesh {
 
     /// Stops at the first face found that the ray crosses within `ray_t`.
     fn occluded(&self, ray: &Ray, ray_t: Interval) -> bool {
-        dispatch_with(
-            self.lanes,
-            #[inline(always)]
-            || self.any(ray, ray_t, &mut (), |_, _| true),
-        )
+        kernel!(self, |lanes, L| self.any::<L>(
+            lanes,
+            ray,
+            ray_t,
+            &mut (),
+            |_, _| true
+        ))
     }
 }

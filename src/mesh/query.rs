@@ -9,6 +9,7 @@ use super::intersect::{Crossing, Sheared};
 use super::{TriangleMesh, corners, face_box};
 use crate::aabb::BoxRay;
 use crate::math::{gamma, unit_and_length};
+use crate::simd::Lanes;
 use crate::tree::{Tally, Visits, wins};
 use crate::{HitRecord, Interval, Ray};
 
@@ -103,8 +104,9 @@ impl TriangleMesh {
     /// A crossing counts only where `accept` takes it (a filter's say, asked once per face
     /// the walk crosses; always yes, and compiled away, for the mesh's own queries).
     #[inline(always)]
-    pub(super) fn closest(
+    pub(super) fn closest<L: Lanes>(
         &self,
+        lanes: L::Token,
         ray: &Ray,
         ray_t: Interval,
         tally: &mut impl Tally,
@@ -132,8 +134,8 @@ impl TriangleMesh {
                 for block in (first..first + count).step_by(LANES) {
                     let end = (block + LANES).min(first + count);
                     let faces = &self.triangles[block..end];
-                    sheared.test_block(
-                        self.lanes,
+                    sheared.test_block::<L>(
+                        lanes,
                         &self.vertices,
                         faces,
                         ray_t.min,
@@ -167,8 +169,9 @@ impl TriangleMesh {
 
     /// Whether any face crosses `ray` within `ray_t` (and `accept` takes it).
     #[inline(always)]
-    pub(super) fn any(
+    pub(super) fn any<L: Lanes>(
         &self,
+        lanes: L::Token,
         ray: &Ray,
         ray_t: Interval,
         tally: &mut impl Tally,
@@ -192,8 +195,8 @@ impl TriangleMesh {
                     let end = (block + LANES).min(first + count);
                     let faces = &self.triangles[block..end];
                     // (Counted as the faces before the one found, and that one.)
-                    found = sheared.test_block(
-                        self.lanes,
+                    found = sheared.test_block::<L>(
+                        lanes,
                         &self.vertices,
                         faces,
                         ray_t.min,
@@ -239,7 +242,13 @@ impl TriangleMesh {
     #[must_use]
     pub fn hit_visits(&self, ray: &Ray, ray_t: Interval) -> Visits {
         let mut visits = Visits::default();
-        self.closest(ray, ray_t, &mut visits, |_, _| true);
+        kernel!(self, |lanes, L| self.closest::<L>(
+            lanes,
+            ray,
+            ray_t,
+            &mut visits,
+            |_, _| true
+        ));
         visits
     }
 
@@ -248,7 +257,13 @@ impl TriangleMesh {
     #[must_use]
     pub fn occluded_visits(&self, ray: &Ray, ray_t: Interval) -> Visits {
         let mut visits = Visits::default();
-        self.any(ray, ray_t, &mut visits, |_, _| true);
+        kernel!(self, |lanes, L| self.any::<L>(
+            lanes,
+            ray,
+            ray_t,
+            &mut visits,
+            |_, _| true
+        ));
         visits
     }
 
@@ -295,10 +310,10 @@ impl TriangleMesh {
 
 #[cfg(test)]
 mod tests {
-    use crate::simd::dispatch;
     use crate::{Hittable, Interval, Ray, TriangleMesh};
     use glam::{DMat3, DVec3};
     use proptest::prelude::*;
+    use wide::f64x4;
 
     /// A bumpy grid of `n` x `n` squares (two faces each, vertices shared), turned, scaled
     /// and moved: shared edges and vertices at every magnitude.
@@ -400,28 +415,28 @@ mod tests {
                 }
                 for ray in &rays {
                     for ray_t in [Interval::FORWARD, Interval::new(0.0, 1.0), Interval::UNIVERSE] {
-                        let portable = mesh.closest(ray, ray_t, &mut (), |_, _| true);
-                        let fast = dispatch(#[inline(always)] || mesh.closest(ray, ray_t, &mut (), |_, _| true));
+                        let portable = mesh.closest::<f64x4>((), ray, ray_t, &mut (), |_, _| true);
+                        let fast = kernel!(mesh, |lanes, L| mesh.closest::<L>(lanes, ray, ray_t, &mut (), |_, _| true));
                         let key = |c: Option<(usize, super::Crossing)>| {
                             c.map(|(p, c)| (p, c.t.to_bits(), c.barycentric().to_array().map(f64::to_bits)))
                         };
                         prop_assert_eq!(key(portable), key(fast));
                         prop_assert_eq!(
-                            mesh.any(ray, ray_t, &mut (), |_, _| true),
-                            dispatch(#[inline(always)] || mesh.any(ray, ray_t, &mut (), |_, _| true))
+                            mesh.any::<f64x4>((), ray, ray_t, &mut (), |_, _| true),
+                            kernel!(mesh, |lanes, L| mesh.any::<L>(lanes, ray, ray_t, &mut (), |_, _| true))
                         );
                     }
                     // Any hit answers as the closest hit with the range ending, or
                     // starting, a few ulps either side of the closest crossing, where the
                     // any-hit query's shortcut past the box clamp stops applying.
-                    if let Some((_, c)) = mesh.closest(ray, Interval::FORWARD, &mut (), |_, _| true) {
+                    if let Some((_, c)) = mesh.closest::<f64x4>((), ray, Interval::FORWARD, &mut (), |_, _| true) {
                         for ulps in -3i64..=3 {
                             let end = f64::from_bits((c.t.to_bits() as i64 + ulps) as u64);
                             for ray_t in [Interval::new(0.0, end), Interval::new(end, f64::INFINITY)] {
-                                let closest = mesh.closest(ray, ray_t, &mut (), |_, _| true).is_some();
-                                prop_assert_eq!(mesh.any(ray, ray_t, &mut (), |_, _| true), closest);
+                                let closest = mesh.closest::<f64x4>((), ray, ray_t, &mut (), |_, _| true).is_some();
+                                prop_assert_eq!(mesh.any::<f64x4>((), ray, ray_t, &mut (), |_, _| true), closest);
                                 prop_assert_eq!(
-                                    dispatch(#[inline(always)] || mesh.any(ray, ray_t, &mut (), |_, _| true)),
+                                    kernel!(mesh, |lanes, L| mesh.any::<L>(lanes, ray, ray_t, &mut (), |_, _| true)),
                                     closest
                                 );
                             }
