@@ -275,25 +275,13 @@ impl TriangleMesh {
 
 impl Hittable for TriangleMesh {
     fn hit(&self, ray: &Ray, ray_t: Interval) -> Option<HitRecord> {
-        let (position, crossing) = kernel!(self, |lanes, L| self.closest::<L>(
-            lanes,
-            ray,
-            ray_t,
-            &mut (),
-            |_, _| true
-        ))?;
+        let (position, crossing) = self.nearest(ray, ray_t)?;
         self.record_at(ray, position, crossing.t, crossing.barycentric())
     }
 
     /// The face's barycentrics in `coords`, its position in the tree's order in `part`.
     fn find(&self, ray: &Ray, ray_t: Interval, _: &mut Made) -> Option<Found> {
-        let (position, crossing) = kernel!(self, |lanes, L| self.closest::<L>(
-            lanes,
-            ray,
-            ray_t,
-            &mut (),
-            |_, _| true
-        ))?;
+        let (position, crossing) = self.nearest(ray, ray_t)?;
         Some(Found::new(
             crossing.t,
             crossing.barycentric(),

@@ -20,6 +20,29 @@ impl TriangleMesh {
         corners(&self.vertices, self.triangles[position])
     }
 
+    /// The faces of the leaf of `count` from position `first`, in blocks of at most
+    /// [`LANES`] (one block: a mesh's leaves hold at most that many), to `each(block,
+    /// faces)` until it returns `true` (and then `true`).
+    #[inline(always)]
+    fn blocks(
+        &self,
+        first: usize,
+        count: usize,
+        mut each: impl FnMut(usize, &[[u32; 3]]) -> bool,
+    ) -> bool {
+        // (A loop of its own: `Iterator::any`'s closures, left out of line, would take the
+        // lanes out of the AVX2 copy.)
+        let (mut block, end) = (first, first + count);
+        while block < end {
+            let next = (block + LANES).min(end);
+            if each(block, &self.triangles[block..next]) {
+                return true;
+            }
+            block = next;
+        }
+        false
+    }
+
     /// The crossing of the face at `position` with `ray`, if its `t` (kept within the
     /// face's box along the ray) lies in `ray_t`, and the exact crossing at or beyond
     /// `ray_t.min` whatever its rounding (the contract's clause 5: a ray spawned from a face never
@@ -131,40 +154,56 @@ impl TriangleMesh {
             #[inline(always)]
             |first, count, t_max| {
                 tests += count as u32;
-                for block in (first..first + count).step_by(LANES) {
-                    let end = (block + LANES).min(first + count);
-                    let faces = &self.triangles[block..end];
-                    sheared.test_block::<L>(
-                        lanes,
-                        &self.vertices,
-                        faces,
-                        ray_t.min,
-                        #[inline(always)]
-                        |i, c| {
-                            let position = block + i;
-                            if let Some(c) = self.keep::<false>(
-                                c,
-                                &mut box_ray,
-                                ray,
-                                Interval::new(ray_t.min, *t_max),
-                                position,
-                            ) && wins(c.t, *t_max, || {
-                                let best = closest.map(|(best, _)| order[best] as usize);
-                                (order[position] as usize, best)
-                            }) && accept(position, &c)
-                            {
-                                *t_max = c.t;
-                                closest = Some((position, c));
-                            }
-                            false
-                        },
-                    );
-                }
+                self.blocks(
+                    first,
+                    count,
+                    #[inline(always)]
+                    |block, faces| {
+                        sheared.test_block::<L>(
+                            lanes,
+                            &self.vertices,
+                            faces,
+                            ray_t.min,
+                            #[inline(always)]
+                            |i, c| {
+                                let position = block + i;
+                                if let Some(c) = self.keep::<false>(
+                                    c,
+                                    &mut box_ray,
+                                    ray,
+                                    Interval::new(ray_t.min, *t_max),
+                                    position,
+                                ) && wins(c.t, *t_max, || {
+                                    let best = closest.map(|(best, _)| order[best] as usize);
+                                    (order[position] as usize, best)
+                                }) && accept(position, &c)
+                                {
+                                    *t_max = c.t;
+                                    closest = Some((position, c));
+                                }
+                                false
+                            },
+                        );
+                        false
+                    },
+                );
                 false
             },
         );
         tally.tests(tests);
         closest
+    }
+
+    /// The mesh's own closest crossing (`hit` and `find`), in the kernel it picked.
+    #[inline]
+    pub(super) fn nearest(&self, ray: &Ray, ray_t: Interval) -> Option<(usize, Crossing)> {
+        kernel!(self, |lanes, L| self.closest::<L>(
+            lanes,
+            ray,
+            ray_t,
+            &mut (),
+            |_, _| true
+        ))
     }
 
     /// Whether any face crosses `ray` within `ray_t` (and `accept` takes it).
@@ -191,32 +230,35 @@ impl TriangleMesh {
             tally,
             #[inline(always)]
             |first, count, _| {
-                for block in (first..first + count).step_by(LANES) {
-                    let end = (block + LANES).min(first + count);
-                    let faces = &self.triangles[block..end];
-                    // (Counted as the faces before the one found, and that one.)
-                    found = sheared.test_block::<L>(
-                        lanes,
-                        &self.vertices,
-                        faces,
-                        ray_t.min,
-                        #[inline(always)]
-                        |i, c| {
-                            let position = block + i;
-                            let kept = self
-                                .keep::<true>(c, &mut box_ray, ray, ray_t, position)
-                                .is_some_and(|c| accept(position, &c));
-                            if kept {
-                                tests += i as u32 + 1;
-                            }
-                            kept
-                        },
-                    );
-                    if found {
-                        break;
-                    }
-                    tests += faces.len() as u32;
-                }
+                // (Counted as the faces before the one found, and that one.)
+                found = self.blocks(
+                    first,
+                    count,
+                    #[inline(always)]
+                    |block, faces| {
+                        let found = sheared.test_block::<L>(
+                            lanes,
+                            &self.vertices,
+                            faces,
+                            ray_t.min,
+                            #[inline(always)]
+                            |i, c| {
+                                let position = block + i;
+                                let kept = self
+                                    .keep::<true>(c, &mut box_ray, ray, ray_t, position)
+                                    .is_some_and(|c| accept(position, &c));
+                                if kept {
+                                    tests += i as u32 + 1;
+                                }
+                                kept
+                            },
+                        );
+                        if !found {
+                            tests += faces.len() as u32;
+                        }
+                        found
+                    },
+                );
                 found
             },
         );
