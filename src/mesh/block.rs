@@ -1,9 +1,9 @@
 //! The exact face test (`intersect.rs`) on a leaf's faces four at a time: every step the
 //! test of one face takes in the common case, the same operations in the same order, in
-//! four `f64` lanes (one AVX2 instruction each where the walk is compiled for it, two SSE2
-//! ones otherwise). A lane the certain arithmetic cannot settle takes the test of one face,
-//! which decides it as it always did; so each lane's answer is the one-face test's, bit for
-//! bit (Rust never fuses a multiply and an add unless asked to).
+//! four `f64` lanes (one AVX2 instruction each where the mesh's kernel is AVX2's, two SSE2
+//! ones otherwise: `simd::Lanes`). A lane the certain arithmetic cannot settle takes the
+//! test of one face, which decides it as it always did; so each lane's answer is the
+//! one-face test's, bit for bit (Rust never fuses a multiply and an add unless asked to).
 
 use glam::DVec3;
 
@@ -44,8 +44,8 @@ fn offsets<L: Lanes>(
 
 impl Sheared {
     /// What [`Sheared::test`] answers for each of `faces` (one to [`LANES`] of them, as
-    /// indices into `vertices`), computed in lanes of `L`: `found(i, crossing)` for each face `i` crossed, in their
-    /// order, until it returns `true` (and then `true`).
+    /// indices into `vertices`), computed in lanes of `L`: `found(i, crossing)` for each
+    /// face `i` crossed, in their order, until it returns `true` (and then `true`).
     ///
     /// The corners are gathered into lanes (a block of fewer faces repeats its last one,
     /// and ignores it), their offsets from the origin permuted as whole lanes. Signs mixed
@@ -220,10 +220,10 @@ mod tests {
     }
 
     /// A fan of thin faces about a shared vertex and a bumpy grid, moved to offsets up to
-    /// 1e9 and scaled from 1e-6 to 1e6 (and about 1e150 and 1e-150), and rays that decide them every way: through their
-    /// shared vertices and edges (signs left in doubt: the careful path), from far away,
-    /// grazing, along directions whose length is scaled (1e-300 and 1e300), and starting on
-    /// the faces (the drop before `t_min`).
+    /// 1e9 and scaled from 1e-6 to 1e6 (and about 1e150 and 1e-150), and rays that decide
+    /// them every way: through their shared vertices and edges (signs left in doubt: the
+    /// careful path), from far away, grazing, along directions whose length is scaled
+    /// (1e-300 and 1e300), and starting on the faces (the drop before `t_min`).
     fn each_case(mut check: impl FnMut(&[DVec3], &[[u32; 3]], &Ray, f64) -> usize) {
         let mut stream = Stream(0x5eed_b10c);
         let mut crossed = 0;
