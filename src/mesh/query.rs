@@ -20,22 +20,33 @@ impl TriangleMesh {
         corners(&self.vertices, self.triangles[position])
     }
 
-    /// The faces of the leaf of `count` from position `first`, in blocks of at most
-    /// [`LANES`] (one block: a mesh's leaves hold at most that many), to `each(block,
-    /// faces)` until it returns `true` (and then `true`).
+    /// The test of the leaf of `count` faces from position `first`, in lanes of `L`, a
+    /// block of at most [`LANES`] at a time (one block: a mesh's leaves hold at most that
+    /// many): `found(position, crossing)` for each face crossed, in order, until it returns
+    /// `true` (and then `true`).
     #[inline(always)]
-    fn blocks(
+    fn cross_leaf<L: Lanes>(
         &self,
-        first: usize,
-        count: usize,
-        mut each: impl FnMut(usize, &[[u32; 3]]) -> bool,
+        lanes: L::Token,
+        sheared: &Sheared,
+        (first, count): (usize, usize),
+        t_min: f64,
+        mut found: impl FnMut(usize, Crossing) -> bool,
     ) -> bool {
         // (A loop of its own: `Iterator::any`'s closures, left out of line, would take the
         // lanes out of the AVX2 copy.)
         let (mut block, end) = (first, first + count);
         while block < end {
             let next = (block + LANES).min(end);
-            if each(block, &self.triangles[block..next]) {
+            let faces = &self.triangles[block..next];
+            if sheared.test_block::<L>(
+                lanes,
+                &self.vertices,
+                faces,
+                t_min,
+                #[inline(always)]
+                |i, c| found(block + i, c),
+            ) {
                 return true;
             }
             block = next;
@@ -144,8 +155,8 @@ impl TriangleMesh {
         // A leaf's faces tested together, in lanes (`block.rs`), inlined into the walk here
         // and in `any` so that the lanes are AVX2's where the walk is compiled for it.
         // (Tried: a pass over leaf blocks of four faces in `f32` lanes ruling out certain
-        // misses first; the first step alone in `f64` lanes; both more instructions a ray,
-        // `docs/performance.md`.)
+        // misses first, more instructions a ray; the first step alone in `f64` lanes, its
+        // survivors tested again one at a time, slower: `docs/performance.md`.)
         self.tree.walk::<true>(
             ray,
             ray_t,
@@ -154,36 +165,27 @@ impl TriangleMesh {
             #[inline(always)]
             |first, count, t_max| {
                 tests += count as u32;
-                self.blocks(
-                    first,
-                    count,
+                self.cross_leaf::<L>(
+                    lanes,
+                    &sheared,
+                    (first, count),
+                    ray_t.min,
                     #[inline(always)]
-                    |block, faces| {
-                        sheared.test_block::<L>(
-                            lanes,
-                            &self.vertices,
-                            faces,
-                            ray_t.min,
-                            #[inline(always)]
-                            |i, c| {
-                                let position = block + i;
-                                if let Some(c) = self.keep::<false>(
-                                    c,
-                                    &mut box_ray,
-                                    ray,
-                                    Interval::new(ray_t.min, *t_max),
-                                    position,
-                                ) && wins(c.t, *t_max, || {
-                                    let best = closest.map(|(best, _)| order[best] as usize);
-                                    (order[position] as usize, best)
-                                }) && accept(position, &c)
-                                {
-                                    *t_max = c.t;
-                                    closest = Some((position, c));
-                                }
-                                false
-                            },
-                        );
+                    |position, c| {
+                        if let Some(c) = self.keep::<false>(
+                            c,
+                            &mut box_ray,
+                            ray,
+                            Interval::new(ray_t.min, *t_max),
+                            position,
+                        ) && wins(c.t, *t_max, || {
+                            let best = closest.map(|(best, _)| order[best] as usize);
+                            (order[position] as usize, best)
+                        }) && accept(position, &c)
+                        {
+                            *t_max = c.t;
+                            closest = Some((position, c));
+                        }
                         false
                     },
                 );
@@ -230,35 +232,26 @@ impl TriangleMesh {
             tally,
             #[inline(always)]
             |first, count, _| {
-                // (Counted as the faces before the one found, and that one.)
-                found = self.blocks(
-                    first,
-                    count,
+                found = self.cross_leaf::<L>(
+                    lanes,
+                    &sheared,
+                    (first, count),
+                    ray_t.min,
                     #[inline(always)]
-                    |block, faces| {
-                        let found = sheared.test_block::<L>(
-                            lanes,
-                            &self.vertices,
-                            faces,
-                            ray_t.min,
-                            #[inline(always)]
-                            |i, c| {
-                                let position = block + i;
-                                let kept = self
-                                    .keep::<true>(c, &mut box_ray, ray, ray_t, position)
-                                    .is_some_and(|c| accept(position, &c));
-                                if kept {
-                                    tests += i as u32 + 1;
-                                }
-                                kept
-                            },
-                        );
-                        if !found {
-                            tests += faces.len() as u32;
+                    |position, c| {
+                        let kept = self
+                            .keep::<true>(c, &mut box_ray, ray, ray_t, position)
+                            .is_some_and(|c| accept(position, &c));
+                        // (Counted as the faces before the one found, and that one.)
+                        if kept {
+                            tests += (position - first) as u32 + 1;
                         }
-                        found
+                        kept
                     },
                 );
+                if !found {
+                    tests += count as u32;
+                }
                 found
             },
         );
