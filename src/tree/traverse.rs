@@ -161,18 +161,20 @@ impl Entries for Lanes {
 }
 
 impl Lanes {
-    /// The ray's lanes, or `None` where it or the tree is past the limits, or `ray_t` has a
-    /// NaN end.
+    /// The lanes of a valid ray ([`Ray::is_valid`], which the walk checks first), or `None`
+    /// where it or the tree is past the limits, or `ray_t` has a NaN end.
     #[inline(always)]
     fn new(tree: &Tree, ray: &Ray, box_ray: &BoxRay, ray_t: Interval) -> Option<Self> {
         let inv = box_ray.inv_direction;
         let relative = ray.origin - tree.origin;
         let magnitude = inv.abs();
-        // (A NaN fails the comparisons.)
-        let within = magnitude.cmpge(DVec3::splat(1.0 / INV_LIMIT))
-            & magnitude.cmple(DVec3::splat(INV_LIMIT))
-            & relative.abs().cmple(DVec3::splat(ORIGIN_LIMIT));
-        if !(tree.reach.compact && within.all()) || ray_t.min.is_nan() || ray_t.max.is_nan() {
+        // (A NaN fails the comparisons; `min_element` and `max_element` would pass it over,
+        // but no component is NaN: the ray is valid, and its reciprocal of a finite
+        // direction is a number or infinite.)
+        let within = magnitude.min_element() >= 1.0 / INV_LIMIT
+            && magnitude.max_element() <= INV_LIMIT
+            && relative.abs().max_element() <= ORIGIN_LIMIT;
+        if !(tree.reach.compact && within) || ray_t.min.is_nan() || ray_t.max.is_nan() {
             return None;
         }
         let reach = &tree.reach;
