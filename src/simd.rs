@@ -4,6 +4,7 @@
 //! own where the CPU has it ([`Avx4`], the crate's one use of `unsafe`), `wide`'s portable
 //! ones elsewhere. The rest of the crate is written once, as portable code.
 
+use glam::DVec3;
 use multiversion::multiversion;
 
 /// Runs `query` compiled for AVX2 and FMA where the CPU has both (detected at run time with
@@ -37,8 +38,9 @@ pub(crate) trait Lanes:
     /// The outcome of a comparison, lane by lane.
     type Mask: Copy + core::ops::BitAnd<Output = Self::Mask> + core::ops::BitOr<Output = Self::Mask>;
     fn splat(token: Self::Token, x: f64) -> Self;
-    fn from_array(token: Self::Token, x: [f64; 4]) -> Self;
     fn to_array(self) -> [f64; 4];
+    /// Four points' coordinates lane by lane: `[x, y, z]`, lane `i` of each point `i`'s.
+    fn transpose(token: Self::Token, points: [&DVec3; 4]) -> [Self; 3];
     fn abs(self) -> Self;
     /// The larger of each pair, for numbers (neither NaN, nor two zeros of either sign).
     fn max(self, other: Self) -> Self;
@@ -56,12 +58,16 @@ impl Lanes for wide::f64x4 {
         wide::f64x4::splat(x)
     }
     #[inline(always)]
-    fn from_array((): (), x: [f64; 4]) -> Self {
-        wide::f64x4::from(x)
-    }
-    #[inline(always)]
     fn to_array(self) -> [f64; 4] {
         wide::f64x4::to_array(self)
+    }
+    #[inline(always)]
+    fn transpose((): (), [p, q, r, s]: [&DVec3; 4]) -> [Self; 3] {
+        [
+            wide::f64x4::from([p.x, q.x, r.x, s.x]),
+            wide::f64x4::from([p.y, q.y, r.y, s.y]),
+            wide::f64x4::from([p.z, q.z, r.z, s.z]),
+        ]
     }
     #[inline(always)]
     fn abs(self) -> Self {
@@ -108,9 +114,11 @@ impl Avx2 {
 mod avx {
     use core::arch::x86_64::{
         __m256d, _CMP_GT_OQ, _CMP_LT_OQ, _mm256_add_pd, _mm256_and_pd, _mm256_andnot_pd,
-        _mm256_cmp_pd, _mm256_div_pd, _mm256_max_pd, _mm256_movemask_pd, _mm256_mul_pd,
-        _mm256_or_pd, _mm256_set_pd, _mm256_set1_pd, _mm256_sub_pd, _mm256_xor_pd,
+        _mm256_cmp_pd, _mm256_div_pd, _mm256_maskload_pd, _mm256_max_pd, _mm256_movemask_pd,
+        _mm256_mul_pd, _mm256_or_pd, _mm256_permute2f128_pd, _mm256_set_epi64x, _mm256_set1_pd,
+        _mm256_sub_pd, _mm256_unpackhi_pd, _mm256_unpacklo_pd, _mm256_xor_pd,
     };
+    use glam::DVec3;
 
     /// Proof that the CPU has AVX2 and FMA (what [`dispatch`](super::dispatch) picks its
     /// wide copy by): made only by [`Avx2::detect`].
@@ -147,7 +155,7 @@ mod avx {
     }
 
     /// Four `f64` lanes in an AVX register. Only [`Avx2`] makes one (`splat`,
-    /// `from_array`), and every operation takes one in, so no value of this type exists on
+    /// `transpose`), and every operation takes one in, so no value of this type exists on
     /// a CPU without AVX2: that is what makes each intrinsic's call below sound.
     #[derive(Clone, Copy, Debug)]
     pub(crate) struct Avx4(__m256d);
@@ -195,13 +203,33 @@ mod avx {
             Self(avx!(_mm256_set1_pd(x)))
         }
         #[inline(always)]
-        fn from_array(_: Avx2, [a, b, c, d]: [f64; 4]) -> Self {
-            Self(avx!(_mm256_set_pd(d, c, b, a)))
-        }
-        #[inline(always)]
         fn to_array(self) -> [f64; 4] {
             // SAFETY: four `f64` in 32 bytes either way, and every bit pattern is one.
             unsafe { core::mem::transmute::<__m256d, [f64; 4]>(self.0) }
+        }
+        /// Each point loaded whole into a register and the four transposed (Embree's way
+        /// with a leaf of indexed triangles): four loads and five shuffles, where lanes
+        /// filled one coordinate at a time take twelve loads and nine inserts.
+        #[inline(always)]
+        fn transpose(_: Avx2, [p, q, r, s]: [&DVec3; 4]) -> [Self; 3] {
+            // `x y z` of a point, and a fourth lane of zero that is never read.
+            let load = |v: &DVec3| {
+                let mask = avx!(_mm256_set_epi64x(0, -1, -1, -1));
+                // SAFETY: `DVec3` is `repr(C)`, three `f64` (glam), so `v` points at three
+                // readable ones; the mask's fourth lane is clear, and a masked load neither
+                // reads nor faults on a lane whose mask is clear (Intel's SDM, VMASKMOV).
+                // AVX, which the `Avx2` proof covers.
+                Self(unsafe { _mm256_maskload_pd(core::ptr::from_ref(v).cast::<f64>(), mask) })
+            };
+            let (a, b, c, d) = (load(p).0, load(q).0, load(r).0, load(s).0);
+            // Within each 128-bit half: (a.x b.x | a.z b.z), (a.y b.y | 0 0), and so for c, d.
+            let (xz_ab, y_ab) = avx!((_mm256_unpacklo_pd(a, b), _mm256_unpackhi_pd(a, b)));
+            let (xz_cd, y_cd) = avx!((_mm256_unpacklo_pd(c, d), _mm256_unpackhi_pd(c, d)));
+            avx!([
+                Self(_mm256_permute2f128_pd::<0x20>(xz_ab, xz_cd)),
+                Self(_mm256_permute2f128_pd::<0x20>(y_ab, y_cd)),
+                Self(_mm256_permute2f128_pd::<0x31>(xz_ab, xz_cd)),
+            ])
         }
         #[inline(always)]
         fn abs(self) -> Self {

@@ -33,13 +33,15 @@ fn offsets<L: Lanes>(
     k: usize,
 ) -> [L; 3] {
     let last = faces.len() - 1;
-    let corner = |i: usize| -> &[f64; 3] { vertices[faces[i.min(last)][k] as usize].as_ref() };
-    let (p0, p1, p2, p3) = (corner(0), corner(1), corner(2), corner(3));
-    let axis = |j: usize| {
-        let a = ray.axes[j];
-        L::from_array(token, [p0[a], p1[a], p2[a], p3[a]]) - origin[j]
+    let corner = |i: usize| &vertices[faces[i.min(last)][k] as usize];
+    let [x, y, z] = L::transpose(token, [corner(0), corner(1), corner(2), corner(3)]);
+    // The lanes in the ray's order of axes (`Sheared::axes`, a cyclic shift).
+    let [a, b, c] = match ray.axes[2] {
+        0 => [y, z, x],
+        1 => [z, x, y],
+        _ => [x, y, z],
     };
-    [axis(0), axis(1), axis(2)]
+    [a - origin[0], b - origin[1], c - origin[2]]
 }
 
 impl Sheared {
