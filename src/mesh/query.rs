@@ -13,6 +13,18 @@ use crate::simd::Lanes;
 use crate::tree::{Tally, Visits, wins};
 use crate::{HitRecord, Interval, Ray};
 
+/// The point at barycentrics `b` on the face of `corners`, and its error bound; `None`
+/// where either overflows.
+#[inline(always)]
+fn point([p0, p1, p2]: [DVec3; 3], b: DVec3) -> Option<(DVec3, DVec3)> {
+    let (w0, w1, w2) = (b.x * p0, b.y * p1, b.z * p2);
+    let point = w0 + w1 + w2;
+    // pbrt-v4 (`Triangle::InteractionFromIntersection`): the weights sum to one to within
+    // a few roundings, and the sum of the weighted corners adds its own.
+    let point_error = gamma(7) * (w0.abs() + w1.abs() + w2.abs());
+    (point.is_finite() && point_error.is_finite()).then_some((point, point_error))
+}
+
 impl TriangleMesh {
     /// The corners of the face at `position` of the tree's order.
     #[inline(always)]
@@ -121,13 +133,7 @@ impl TriangleMesh {
     /// either overflows.
     #[inline]
     pub(super) fn point(&self, position: usize, b: DVec3) -> Option<(DVec3, DVec3)> {
-        let [p0, p1, p2] = self.corners_at(position);
-        let (w0, w1, w2) = (b.x * p0, b.y * p1, b.z * p2);
-        let point = w0 + w1 + w2;
-        // pbrt-v4 (`Triangle::InteractionFromIntersection`): the weights sum to one to
-        // within a few roundings, and the sum of the weighted corners adds its own.
-        let point_error = gamma(7) * (w0.abs() + w1.abs() + w2.abs());
-        (point.is_finite() && point_error.is_finite()).then_some((point, point_error))
+        point(self.corners_at(position), b)
     }
 
     /// The closest crossing, its position in the tree's order, by the same rule as
@@ -323,8 +329,10 @@ impl TriangleMesh {
         b: DVec3,
     ) -> Option<HitRecord> {
         let face = self.triangles[position];
-        let [p0, p1, p2] = self.corners_at(position);
-        let (point, point_error) = self.point(position, b)?;
+        // (The corners loaded once for the point and the normal.)
+        let corners = self.corners_at(position);
+        let [p0, p1, p2] = corners;
+        let (point, point_error) = point(corners, b)?;
         let (normal, _) = unit_and_length((p1 - p0).cross(p2 - p0));
         let uv = self.uv_at(position, b);
         let mut record = HitRecord::new(ray, t, point, normal)
