@@ -10,7 +10,7 @@ use glam::DVec3;
 
 use crate::masked::sees;
 use crate::record::{Found, Made};
-use crate::simd::dispatch;
+use crate::simd::{Boxes, boxes};
 use crate::tree::{Shape, Tally, Tree, Visits, permute, wins};
 use crate::{Aabb, HitRecord, Hittable, Interval, Ray};
 
@@ -57,8 +57,9 @@ impl<T: Hittable> Bvh<T> {
     /// lowers as it finds hits (later boxes are culled against it); it returns `true` to
     /// stop.
     #[inline(always)]
-    fn walk<const NEAREST: bool>(
+    fn walk<const NEAREST: bool, B: Boxes>(
         &self,
+        token: B::Token,
         ray: &Ray,
         ray_t: Interval,
         t_max: &mut f64,
@@ -66,7 +67,8 @@ impl<T: Hittable> Bvh<T> {
         mut visit: impl FnMut(&[T], usize, &mut f64) -> bool,
     ) {
         let objects = &self.objects;
-        self.tree.walk::<NEAREST>(
+        self.tree.walk_on::<NEAREST, B>(
+            token,
             ray,
             ray_t,
             t_max,
@@ -153,10 +155,14 @@ impl<T: Hittable> Bvh<T> {
     #[must_use]
     pub fn hit_with_index(&self, ray: &Ray, ray_t: Interval) -> Option<(usize, HitRecord)> {
         let mut kept = None;
-        let (index, position, found) = dispatch(
-            #[inline(always)]
-            || self.closest::<false>(ray, ray_t, &mut (), &mut kept, |_, _| true),
-        )?;
+        let (index, position, found) = boxes!(|token, B| self.closest::<false, B>(
+            token,
+            ray,
+            ray_t,
+            &mut (),
+            &mut kept,
+            |_, _| true
+        ))?;
         let hit = match kept {
             Some(made) if found.is_made() => Some(made),
             _ => self.objects[position].record(ray, ray_t, &found),
@@ -211,10 +217,14 @@ impl<T: Hittable> Bvh<T> {
     ) -> Option<(usize, HitRecord)> {
         let mut kept = None;
         let accept = |index: usize, found: &Found| filter(&ObjectCandidate::new(ray, index, found));
-        let (index, position, found) = dispatch(
-            #[inline(always)]
-            || self.closest::<true>(ray, ray_t, &mut (), &mut kept, accept),
-        )?;
+        let (index, position, found) = boxes!(|token, B| self.closest::<true, B>(
+            token,
+            ray,
+            ray_t,
+            &mut (),
+            &mut kept,
+            accept
+        ))?;
         let hit = match kept {
             Some(made) if found.is_made() => Some(made),
             _ => self.objects[position].record(ray, ray_t, &found),
@@ -233,10 +243,7 @@ impl<T: Hittable> Bvh<T> {
         filter: impl Fn(&ObjectCandidate) -> bool,
     ) -> bool {
         let accept = |index: usize, found: &Found| filter(&ObjectCandidate::new(ray, index, found));
-        dispatch(
-            #[inline(always)]
-            || self.any::<true>(ray, ray_t, &mut (), accept),
-        )
+        boxes!(|token, B| self.any::<true, B>(token, ray, ray_t, &mut (), accept))
     }
 
     /// What [`Bvh::hit`](Hittable::hit) costs on `ray`: the nodes whose children's boxes it
@@ -259,7 +266,7 @@ impl<T: Hittable> Bvh<T> {
     #[must_use]
     pub fn hit_visits(&self, ray: &Ray, ray_t: Interval) -> Visits {
         let mut visits = Visits::default();
-        self.closest::<false>(ray, ray_t, &mut visits, &mut None, |_, _| true);
+        self.closest::<false, [f32; 8]>((), ray, ray_t, &mut visits, &mut None, |_, _| true);
         visits
     }
 
@@ -268,17 +275,18 @@ impl<T: Hittable> Bvh<T> {
     #[must_use]
     pub fn occluded_visits(&self, ray: &Ray, ray_t: Interval) -> Visits {
         let mut visits = Visits::default();
-        self.any::<false>(ray, ray_t, &mut visits, |_, _| true);
+        self.any::<false, [f32; 8]>((), ray, ray_t, &mut visits, |_, _| true);
         visits
     }
 
     /// The closest crossing by the objects' `find`: the object's number, its position in
     /// `self.objects`, and the crossing, whose record is put in `kept` where it is
-    /// [made](Found::is_made). (Inlined always, as `any`, so that
-    /// [`dispatch`](crate::simd::dispatch) compiles all of it for AVX2.)
+    /// [made](Found::is_made). (Inlined always, as `any`, so that `boxes!` compiles all of
+    /// it for AVX2.)
     #[inline(always)]
-    fn closest<const FILTERED: bool>(
+    fn closest<const FILTERED: bool, B: Boxes>(
         &self,
+        token: B::Token,
         ray: &Ray,
         ray_t: Interval,
         tally: &mut impl Tally,
@@ -293,7 +301,8 @@ impl<T: Hittable> Bvh<T> {
         let mut closest: Option<(usize, usize, Found)> = None;
         let mut t_max = ray_t.max;
         let mut tests = 0u32;
-        self.walk::<true>(
+        self.walk::<true, B>(
+            token,
             ray,
             ray_t,
             &mut t_max,
@@ -359,8 +368,9 @@ impl<T: Hittable> Bvh<T> {
     /// a crossing that `accept` takes (asked of each object's crossings by `find`, from
     /// the nearest on, until one is taken).
     #[inline(always)]
-    fn any<const FILTERED: bool>(
+    fn any<const FILTERED: bool, B: Boxes>(
         &self,
+        token: B::Token,
         ray: &Ray,
         ray_t: Interval,
         tally: &mut impl Tally,
@@ -369,7 +379,8 @@ impl<T: Hittable> Bvh<T> {
         let mut found = false;
         let mut t_max = ray_t.max;
         let mut tests = 0u32;
-        self.walk::<false>(
+        self.walk::<false, B>(
+            token,
             ray,
             ray_t,
             &mut t_max,
@@ -418,19 +429,27 @@ impl<T: Hittable> Bvh<T> {
     fn hit_by_records(&self, ray: &Ray, ray_t: Interval) -> Option<(usize, HitRecord)> {
         let mut closest: Option<(usize, HitRecord)> = None;
         let mut t_max = ray_t.max;
-        self.walk::<true>(ray, ray_t, &mut t_max, &mut (), |objects, first, t_max| {
-            for (object, &index) in objects.iter().zip(&self.tree.order[first..]) {
-                let index = index as usize;
-                if sees(ray, object)
-                    && let Some(hit) = object.hit(ray, Interval::new(ray_t.min, *t_max))
-                    && wins(hit.t, *t_max, || (index, closest.as_ref().map(|(b, _)| *b)))
-                {
-                    *t_max = hit.t;
-                    closest = Some((index, hit));
+        // (Rare: the arrays' node test, without detecting AVX2.)
+        self.walk::<true, [f32; 8]>(
+            (),
+            ray,
+            ray_t,
+            &mut t_max,
+            &mut (),
+            |objects, first, t_max| {
+                for (object, &index) in objects.iter().zip(&self.tree.order[first..]) {
+                    let index = index as usize;
+                    if sees(ray, object)
+                        && let Some(hit) = object.hit(ray, Interval::new(ray_t.min, *t_max))
+                        && wins(hit.t, *t_max, || (index, closest.as_ref().map(|(b, _)| *b)))
+                    {
+                        *t_max = hit.t;
+                        closest = Some((index, hit));
+                    }
                 }
-            }
-            false
-        });
+                false
+            },
+        );
         closest
     }
 }
@@ -496,17 +515,14 @@ impl<T: Hittable> Hittable for Bvh<T> {
 
     /// Stops at the first object found that occludes, in any order.
     fn occluded(&self, ray: &Ray, ray_t: Interval) -> bool {
-        dispatch(
-            #[inline(always)]
-            || self.any::<false>(ray, ray_t, &mut (), |_, _| true),
-        )
+        boxes!(|token, B| self.any::<false, B>(token, ray, ray_t, &mut (), |_, _| true))
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::Bvh;
-    use crate::simd::dispatch;
+    use crate::simd::boxes;
     use crate::{Interval, Quad, Ray, Triangle};
     use glam::DVec3;
     use proptest::prelude::*;
@@ -550,12 +566,12 @@ mod tests {
                         c.map(|(i, p, f)| (i, p, f.t.to_bits(), f.coords.to_array().map(f64::to_bits)))
                     };
                     prop_assert_eq!(
-                        key(bvh.closest::<false>(&ray, ray_t, &mut (), &mut None, |_, _| true)),
-                        key(dispatch(#[inline(always)] || bvh.closest::<false>(&ray, ray_t, &mut (), &mut None, |_, _| true)))
+                        key(bvh.closest::<false, [f32; 8]>((), &ray, ray_t, &mut (), &mut None, |_, _| true)),
+                        key(boxes!(|token, B| bvh.closest::<false, B>(token, &ray, ray_t, &mut (), &mut None, |_, _| true)))
                     );
                     prop_assert_eq!(
-                        bvh.any::<false>(&ray, ray_t, &mut (), |_, _| true),
-                        dispatch(#[inline(always)] || bvh.any::<false>(&ray, ray_t, &mut (), |_, _| true))
+                        bvh.any::<false, [f32; 8]>((), &ray, ray_t, &mut (), |_, _| true),
+                        boxes!(|token, B| bvh.any::<false, B>(token, &ray, ray_t, &mut (), |_, _| true))
                     );
                 }
             }

@@ -139,7 +139,7 @@ impl TriangleMesh {
     /// The closest crossing, its position in the tree's order, by the same rule as
     /// [`Bvh::hit_with_index`](crate::Bvh::hit_with_index): of faces hit at exactly the
     /// same `t`, the one the caller numbered first. (Inlined always, here and below, so
-    /// that [`dispatch`](crate::simd::dispatch) compiles the walk for AVX2.)
+    /// that the mesh's AVX2 kernel compiles the walk for AVX2.)
     ///
     /// A crossing counts only where `accept` takes it (a filter's say, asked once per face
     /// the walk crosses; always yes, and compiled away, for the mesh's own queries).
@@ -163,7 +163,8 @@ impl TriangleMesh {
         // (Tried: a pass over leaf blocks of four faces in `f32` lanes ruling out certain
         // misses first, more instructions a ray; the first step alone in `f64` lanes, its
         // survivors tested again one at a time, slower: `docs/performance.md`.)
-        self.tree.walk::<true>(
+        self.tree.walk_on::<true, L::Boxes>(
+            lanes,
             ray,
             ray_t,
             &mut t_max,
@@ -231,7 +232,8 @@ impl TriangleMesh {
         let mut found = false;
         let mut t_max = ray_t.max;
         let mut tests = 0u32;
-        self.tree.walk::<false>(
+        self.tree.walk_on::<false, L::Boxes>(
+            lanes,
             ray,
             ray_t,
             &mut t_max,

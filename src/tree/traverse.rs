@@ -9,6 +9,7 @@ use super::{MAX_DEPTH, Tally, Tree, WIDTH};
 use glam::{DVec3, Vec3};
 
 use crate::aabb::{BoxRay, slab_spans};
+use crate::simd::Boxes;
 use crate::{Interval, Ray};
 
 /// Where the ray enters each child within `ray_t` (`+inf`: it misses), by the crate's one
@@ -35,7 +36,8 @@ fn entries(node: &Node, origin: &[f64; 3], ray: &BoxRay, ray_t: Interval) -> [f6
 /// later: so the tree still answers as the loop over its objects (the contract's clause 3).
 ///
 /// Per axis, the distance to a bound `f` (an offset from the tree's origin) is
-/// `f * inv + shift` in `f32`: two roundings, where the `f64` test computes
+/// `f * inv + shift` in `f32`: two roundings (one where AVX2's lanes fuse the multiply and
+/// the add, which only errs less), where the `f64` test computes
 /// `((origin + f) - o) * inv` with its own. With `r = o - origin` and `I = |inv|`, the `f32`
 /// form errs from `(f - r) * inv` by at most `2^-24` of `|f| I` (the reciprocal's rounding
 /// to `f32`) and `2^-24` of each of its two results (at most `(B + |r|) I` and a pad more,
@@ -54,16 +56,19 @@ fn entries(node: &Node, origin: &[f64; 3], ray: &BoxRay, ray_t: Interval) -> [f6
 /// direction component (an infinite reciprocal, whose distances are `±inf` or NaN) takes
 /// the `f64` test. An unused lane's empty box (`±inf` bounds) gives an infinite entry or
 /// exit, never NaN.
-struct Lanes {
+struct Lanes<B: Boxes> {
+    /// What makes lanes of `B`.
+    token: B::Token,
     /// Per axis: the index into `Node::bounds` of the near bound, and of the far one.
     near: [usize; 3],
     far: [usize; 3],
-    /// The reciprocal direction, and `-r * inv` moved outward for the near and far bounds.
-    inv: [f32; 3],
-    near_shift: [f32; 3],
-    far_shift: [f32; 3],
+    /// The reciprocal direction, and `-r * inv` moved outward for the near and far bounds,
+    /// each in every lane.
+    inv: [B; 3],
+    near_shift: [B; 3],
+    far_shift: [B; 3],
     /// `ray_t.min`, rounded down to `f32`.
-    lo: f32,
+    lo: B,
 }
 
 /// The pad's relative part, and its absolute one (see [`Lanes`]).
@@ -149,22 +154,28 @@ impl Entries for Reference {
                 f32::INFINITY
             }
         });
-        (t, entered_bits(&t, &[f32::MAX; WIDTH]))
+        (t, t.le_bits([f32::MAX; WIDTH]))
     }
 }
 
-impl Entries for Lanes {
+impl<B: Boxes> Entries for Lanes<B> {
     #[inline(always)]
     fn entries(&self, node: &Node, limit: Limit) -> ([f32; WIDTH], u32) {
         self.entries(node, limit.up)
     }
 }
 
-impl Lanes {
+impl<B: Boxes> Lanes<B> {
     /// The lanes of a valid ray ([`Ray::is_valid`], which the walk checks first), or `None`
     /// where it or the tree is past the limits, or `ray_t` has a NaN end.
     #[inline(always)]
-    fn new(tree: &Tree, ray: &Ray, box_ray: &BoxRay, ray_t: Interval) -> Option<Self> {
+    fn new(
+        token: B::Token,
+        tree: &Tree,
+        ray: &Ray,
+        box_ray: &BoxRay,
+        ray_t: Interval,
+    ) -> Option<Self> {
         let inv = box_ray.inv_direction;
         let relative = ray.origin - tree.origin;
         let magnitude = inv.abs();
@@ -186,19 +197,21 @@ impl Lanes {
         let shift = -relative * inv;
         let pad = pad + shift.abs() * f64::from(f32::EPSILON);
         let (near_shift, far_shift) = ((shift - pad).as_vec3(), (shift + pad).as_vec3());
-        let mut lanes = Self {
-            near: [0; 3],
-            far: [0; 3],
-            inv: inv.as_vec3().to_array(),
-            near_shift: near_shift.to_array(),
-            far_shift: far_shift.to_array(),
-            lo: down(DVec3::splat(ray_t.min.max(-f64::from(f32::MAX)))).x,
-        };
+        let mut lo = down(DVec3::splat(ray_t.min.max(-f64::from(f32::MAX)))).x;
         // A start at zero or after is kept at zero or after: rounded down it would be a
         // step below zero, which every box the ray starts in would carry into its entry.
         if ray_t.min >= 0.0 {
-            lanes.lo = lanes.lo.max(0.0);
+            lo = lo.max(0.0);
         }
+        let mut lanes = Self {
+            token,
+            near: [0; 3],
+            far: [0; 3],
+            inv: splat3(token, inv.as_vec3()),
+            near_shift: splat3(token, near_shift),
+            far_shift: splat3(token, far_shift),
+            lo: B::splat(token, lo),
+        };
         for axis in 0..3 {
             let negative = box_ray.negative[axis];
             lanes.near[axis] = if negative { 3 + axis } else { axis };
@@ -211,25 +224,16 @@ impl Lanes {
     /// `f64` test finds it, and the children entered, as bits.
     #[inline(always)]
     fn entries(&self, node: &Node, hi: f32) -> ([f32; WIDTH], u32) {
-        let (mut t0, mut t1) = ([self.lo; WIDTH], [hi; WIDTH]);
+        let (mut t0, mut t1) = (self.lo, B::splat(self.token, hi));
         for axis in 0..3 {
-            let near = &node.bounds[self.near[axis]];
-            let far = &node.bounds[self.far[axis]];
-            let (inv, near_shift, far_shift) =
-                (self.inv[axis], self.near_shift[axis], self.far_shift[axis]);
-            // Lane by lane, in loops the compiler turns into one instruction per step for
-            // all eight lanes (two with SSE alone). No distance is NaN (see `Lanes`), so
-            // the comparisons are the CPU's own `max` and `min`. (Not done: a fused
-            // multiply-add, which only the AVX2 copy could compile to one instruction, and
-            // only through a flag passed down from the dispatch to every query.)
-            for k in 0..WIDTH {
-                let a = near[k] * inv + near_shift;
-                let b = far[k] * inv + far_shift;
-                t0[k] = if a > t0[k] { a } else { t0[k] };
-                t1[k] = if b < t1[k] { b } else { t1[k] };
-            }
+            let near = B::load(self.token, &node.bounds[self.near[axis]]);
+            let far = B::load(self.token, &node.bounds[self.far[axis]]);
+            // No distance is NaN (see `Lanes`), so the comparisons are the CPU's own `max`
+            // and `min`.
+            t0 = near.mul_add(self.inv[axis], self.near_shift[axis]).max(t0);
+            t1 = far.mul_add(self.inv[axis], self.far_shift[axis]).min(t1);
         }
-        (t0, entered_bits(&t0, &t1))
+        (t0.to_array(), t0.le_bits(t1))
     }
 }
 
@@ -255,6 +259,16 @@ fn prefetch(tree: &Tree, index: u32) {
     let _ = (tree, index);
 }
 
+/// Each coordinate of `v` in every lane.
+#[inline(always)]
+fn splat3<B: Boxes>(token: B::Token, v: Vec3) -> [B; 3] {
+    [
+        B::splat(token, v.x),
+        B::splat(token, v.y),
+        B::splat(token, v.z),
+    ]
+}
+
 /// An `f32` at or above each coordinate of `x` (finite, or past `f32`'s range): `x` grown
 /// by more than half an `f32` ulp before rounding to nearest, branch-free.
 #[inline(always)]
@@ -275,22 +289,6 @@ fn down(x: DVec3) -> Vec3 {
 /// value can still end among them; read as zero, such a value is still on the right side.
 const STEP: f64 = f32::MIN_POSITIVE as f64;
 
-/// Bit `k` set where the ray enters child `k` (`t0[k] <= t1[k]`): a comparison and a mask
-/// per four lanes, through the `wide` crate (SSE's `cmpleps` and `movmskps`; in the AVX2
-/// path, two comparisons and one mask). (Tried: a loop of `m | (t0[k] <= t1[k]) << k`,
-/// which LLVM compiles to scalar instructions, one per lane and more; eight lanes at once
-/// through `wide::f32x8`, more instructions a ray in the mesh's walk.)
-#[inline(always)]
-fn entered_bits(t0: &[f32; WIDTH], t1: &[f32; WIDTH]) -> u32 {
-    let mut bits = 0;
-    for i in (0..WIDTH).step_by(4) {
-        let a = wide::f32x4::from([t0[i], t0[i + 1], t0[i + 2], t0[i + 3]]);
-        let b = wide::f32x4::from([t1[i], t1[i + 1], t1[i + 2], t1[i + 3]]);
-        bits |= (wide::CmpLe::cmp_le(a, b).move_mask() as u32) << i;
-    }
-    bits
-}
-
 impl Tree {
     /// Offers `visit` the unbounded objects, then every leaf whose box the ray enters
     /// within `[ray_t.min, *t_max]`, as a run of positions in the tree's order (first,
@@ -303,6 +301,21 @@ impl Tree {
     #[inline(always)]
     pub(crate) fn walk<const NEAREST: bool>(
         &self,
+        ray: &Ray,
+        ray_t: Interval,
+        t_max: &mut f64,
+        tally: &mut impl Tally,
+        visit: impl FnMut(usize, usize, &mut f64) -> bool,
+    ) {
+        self.walk_on::<NEAREST, [f32; WIDTH]>((), ray, ray_t, t_max, tally, visit);
+    }
+
+    /// [`Tree::walk`], its node test in lanes of `B` (made with `token`): AVX's where a
+    /// caller compiled for AVX2 has the proof, arrays the compiler vectorizes otherwise.
+    #[inline(always)]
+    pub(crate) fn walk_on<const NEAREST: bool, B: Boxes>(
+        &self,
+        token: B::Token,
         ray: &Ray,
         ray_t: Interval,
         t_max: &mut f64,
@@ -325,7 +338,7 @@ impl Tree {
         // as it is lowered.
         let box_ray = BoxRay::new(ray);
         let scaled_t = box_ray.scaled_range(ray_t);
-        match Lanes::new(self, ray, &box_ray, scaled_t) {
+        match Lanes::<B>::new(token, self, ray, &box_ray, scaled_t) {
             Some(lanes) => self.descend::<NEAREST>(t_max, tally, &mut visit, &lanes, &box_ray),
             None => {
                 let reference = Reference {
@@ -509,7 +522,7 @@ impl<const N: usize> Walk<N> {
 
 #[cfg(test)]
 mod tests {
-    use super::{BoxRay, Lanes, Limit, Tree, entries};
+    use super::{BoxRay, Boxes, Lanes, Limit, Tree, WIDTH, entries};
     use crate::tree::Shape;
     use crate::{Aabb, Interval, Ray};
     use glam::DVec3;
@@ -585,30 +598,121 @@ mod tests {
             }
             prop_assume!(direction != DVec3::ZERO);
             let ray = Ray::new(origin, direction);
-            let box_ray = BoxRay::new(&ray);
             let ray_t = Interval::new(t_min, t_max);
-            let Some(lanes) = Lanes::new(&tree, &ray, &box_ray, ray_t) else {
-                // Only past the limits: every |1/d| in [2^-62, 2^62] (so no zero
-                // component).
-                let within = |inv: f64| (2f64.powi(-62)..=2f64.powi(62)).contains(&inv.abs());
-                prop_assert!(!box_ray.inv_direction.to_array().into_iter().all(within));
+            // Both kinds of lanes: the arrays, and AVX's with their fused multiply-add.
+            conservative::<[f32; WIDTH]>((), &tree, &ray, ray_t, t_max)?;
+            #[cfg(target_arch = "x86_64")]
+            if let Some(token) = crate::simd::Avx2::detect() {
+                conservative::<crate::simd::Avx8>(token, &tree, &ray, ray_t, t_max)?;
+                as_tight_as_the_arrays(token, &tree, &ray, ray_t, t_max)?;
+            }
+        }
+    }
+
+    /// AVX's lanes are as tight as the arrays': both round the same distances
+    /// `f * inv + shift` of `f32` operands, whose exact values (`f * inv` is exact in `f64`)
+    /// each kind misses by at most two roundings, `2^-23` of `|f inv| + |shift|` (one
+    /// where fused). So the two kinds' entries are within `2^-22` of the largest such `size`
+    /// of each other, and a child one kind enters and the other does not has exact entry
+    /// and exit that close too. (A slip that makes the AVX test looser, which the
+    /// conservative test cannot see, fails here.)
+    #[cfg(target_arch = "x86_64")]
+    fn as_tight_as_the_arrays(
+        token: crate::simd::Avx2,
+        tree: &Tree,
+        ray: &Ray,
+        ray_t: Interval,
+        t_max: f64,
+    ) -> Result<(), TestCaseError> {
+        let box_ray = BoxRay::new(ray);
+        let arrays = Lanes::<[f32; WIDTH]>::new((), tree, ray, &box_ray, ray_t);
+        let avx = Lanes::<crate::simd::Avx8>::new(token, tree, ray, &box_ray, ray_t);
+        let (lanes, avx) = match (arrays, avx) {
+            (Some(lanes), Some(avx)) => (lanes, avx),
+            (arrays, avx) => {
+                prop_assert!(arrays.is_none() && avx.is_none());
                 return Ok(());
-            };
-            let world = tree.origin.to_array();
-            for node in &tree.nodes {
-                let exact = entries(node, &world, &box_ray, ray_t);
-                let (fast, entered) = lanes.entries(node, Limit::new(&box_ray, t_max).up);
-                for k in 0..exact.len() {
-                    if exact[k] < f64::INFINITY {
-                        prop_assert!(entered & (1 << k) != 0, "lane {k}: entered by the f64 test only");
-                        prop_assert!(
-                            f64::from(fast[k]) <= exact[k],
-                            "lane {k}: f32 entry {} after the f64 test's {}", fast[k], exact[k]
-                        );
-                    }
+            }
+        };
+        let hi = Limit::new(&box_ray, t_max).up;
+        for node in &tree.nodes {
+            let (t, entered) = lanes.entries(node, hi);
+            let (u, entered_avx) = avx.entries(node, hi);
+            for k in 0..WIDTH {
+                // The exact distances (in `f64`, where `f * inv` is exact and the sum's
+                // rounding is far below the tolerance), and the largest term.
+                let distance = |side: usize, shift: f32, axis: usize| {
+                    let product = f64::from(node.bounds[side][k]) * f64::from(lanes.inv[axis][0]);
+                    (
+                        product + f64::from(shift),
+                        product.abs() + f64::from(shift).abs(),
+                    )
+                };
+                let (mut entry, mut exit) = (f64::from(lanes.lo[0]), f64::from(hi));
+                let mut size = entry.abs();
+                for axis in 0..3 {
+                    let (near, a) = distance(lanes.near[axis], lanes.near_shift[axis][0], axis);
+                    let (far, b) = distance(lanes.far[axis], lanes.far_shift[axis][0], axis);
+                    entry = entry.max(near);
+                    exit = exit.min(far);
+                    size = size.max(a).max(b);
+                }
+                if !size.is_finite() {
+                    // An unused lane's empty box, infinite either way.
+                    continue;
+                }
+                let tolerance = 1.01 * f64::from(f32::EPSILON) * 2.0 * size;
+                prop_assert!(
+                    (f64::from(t[k]) - f64::from(u[k])).abs() <= tolerance,
+                    "lane {k}: entries {} and {}, {tolerance} apart at most",
+                    t[k],
+                    u[k]
+                );
+                prop_assert!(
+                    (entered ^ entered_avx) & (1 << k) == 0 || (entry - exit).abs() <= tolerance,
+                    "lane {k}: entered by one kind only, exact entry {entry} and exit {exit}"
+                );
+            }
+        }
+        Ok(())
+    }
+
+    /// What `lanes_are_conservative_against_the_f64_test` asserts, on lanes of `B`.
+    fn conservative<B: Boxes>(
+        token: B::Token,
+        tree: &Tree,
+        ray: &Ray,
+        ray_t: Interval,
+        t_max: f64,
+    ) -> Result<(), TestCaseError> {
+        let box_ray = BoxRay::new(ray);
+        let Some(lanes) = Lanes::<B>::new(token, tree, ray, &box_ray, ray_t) else {
+            // Only past the limits: every |1/d| in [2^-62, 2^62] (so no zero
+            // component).
+            let within = |inv: f64| (2f64.powi(-62)..=2f64.powi(62)).contains(&inv.abs());
+            prop_assert!(!box_ray.inv_direction.to_array().into_iter().all(within));
+            return Ok(());
+        };
+        let world = tree.origin.to_array();
+        for node in &tree.nodes {
+            let exact = entries(node, &world, &box_ray, ray_t);
+            let (fast, entered) = lanes.entries(node, Limit::new(&box_ray, t_max).up);
+            for k in 0..exact.len() {
+                if exact[k] < f64::INFINITY {
+                    prop_assert!(
+                        entered & (1 << k) != 0,
+                        "lane {k}: entered by the f64 test only"
+                    );
+                    prop_assert!(
+                        f64::from(fast[k]) <= exact[k],
+                        "lane {k}: f32 entry {} after the f64 test's {}",
+                        fast[k],
+                        exact[k]
+                    );
                 }
             }
         }
+        Ok(())
     }
 
     /// A walk that enters every child of every node fills the small stack and goes on on
@@ -761,10 +865,11 @@ mod tests {
         for origin in [DVec3::splat(0.5), tree.origin, DVec3::new(0.0, 0.5, 0.5)] {
             let ray = Ray::new(origin, DVec3::new(0.3, -0.2, 1.0));
             let box_ray = BoxRay::new(&ray);
-            let lanes = Lanes::new(&tree, &ray, &box_ray, Interval::FORWARD).unwrap();
+            let lanes =
+                Lanes::<[f32; WIDTH]>::new((), &tree, &ray, &box_ray, Interval::FORWARD).unwrap();
             let normal_or_zero = |x: f32| x == 0.0 || x.is_normal() || x.is_infinite();
-            assert!(normal_or_zero(lanes.lo), "{}", lanes.lo);
-            for &v in lanes.near_shift.iter().chain(&lanes.far_shift) {
+            assert!(normal_or_zero(lanes.lo[0]), "{}", lanes.lo[0]);
+            for &v in lanes.near_shift.iter().chain(&lanes.far_shift).flatten() {
                 assert!(normal_or_zero(v), "{v}");
             }
             for node in &tree.nodes {
