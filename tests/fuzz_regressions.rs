@@ -132,3 +132,59 @@ fn an_instance_whose_error_bound_overflows_answers_alike_in_a_tree() {
         }
     }
 }
+
+/// Clause 3 (the tree answers as the loop over its objects): a disk as an ellipse a
+/// trillion times longer than wide, met by a ray along its length. Its crossing's region,
+/// far wider in the long coordinate than the disk's scale along it, met the disk while the
+/// ray passed ten billion units outside its box; the box's clamp then moved `t` from 1.0
+/// to 0.984, a hit that a search whose `ray_t.max` had fallen below 1 (a tree's, after a
+/// hit on another object) refused early. Such a crossing is now no hit whatever the range,
+/// and every range gives the answer of the widest one cut to it.
+#[test]
+fn a_crossing_far_outside_its_box_is_no_hit_whatever_the_range() {
+    use hitkit::{Disk, Hittable, Interval, Ray};
+    let disk = Quad::with_interior(
+        DVec3::new(
+            -539_937_249_081.146_6,
+            387_941_406_760.040_34,
+            299_636_644_211.651_5,
+        ),
+        DVec3::new(
+            539_937_249_082.273_2,
+            -387_941_406_766.913_76,
+            1_378_090_431_788.775_1,
+        ),
+        DVec3::new(
+            1.555_652_769_514_461_5,
+            0.449_538_826_293_889_5,
+            2.554_805_962_785_422_5,
+        ),
+        Disk,
+    )
+    .unwrap();
+    let ray = Ray::new(
+        DVec3::new(
+            0.309_799_194_335_937_5,
+            0.309_799_194_335_937_5,
+            0.811_752_319_335_937_5,
+        ),
+        DVec3::new(
+            0.690_200_805_664_079_6,
+            -7.309_799_194_335_937_5,
+            1_677_727_075_999.488_3,
+        ),
+    );
+    let widest = disk
+        .hit(&ray, Interval::new(0.390_625, f64::INFINITY))
+        .map(|h| h.t);
+    for max in [1.0, 0.9995, 0.999_34, 0.99, 0.985, 0.984_3, 0.98] {
+        let cut = widest.filter(|&t| t <= max);
+        assert_eq!(
+            disk.hit(&ray, Interval::new(0.390_625, max)).map(|h| h.t),
+            cut,
+            "max {max}"
+        );
+    }
+    // The crossing is at t = 1, 0.12 outside the box in y: no hit.
+    assert_eq!(widest, None);
+}

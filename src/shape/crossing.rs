@@ -270,8 +270,10 @@ impl Plane {
         // (Tried: this test, without the division, before the coordinates and the clear
         // decision, so that crossings behind the closest hit so far skip them; slower on
         // the quads scene.)
+        // (The region's own reach, grown as `Plane::region` grows it, bit for bit: the quad
+        // holds the reported `t` to at least `t - 3` times it.)
         let reach = self.reach(&parts, t);
-        if t - 3.0 * reach > ray_t.max {
+        if t - 3.0 * (reach * (1.0 + gamma(16))) > ray_t.max {
             return None;
         }
         if !((hit.alpha.abs() < f64::INFINITY) & (hit.beta.abs() < f64::INFINITY)) {

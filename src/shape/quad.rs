@@ -235,6 +235,14 @@ impl<S: Interior> Quad<S> {
             Decided::Inside(hit) => return self.settle(ray, ray_t, hit),
             Decided::Region(hit, region) => (hit, region),
         };
+        // The box's clamp below may move `t` no lower than this. The box holds the shape
+        // widened as far as any crossing that truly meets it, and its span along the ray is
+        // padded outward, so for such a crossing the clamp stops within the reach of `t`.
+        // A region far wider in one coordinate than the shape's scale along it (an ellipse
+        // a billion times longer than wide) can meet the shape while the ray passes far
+        // outside its box: that crossing is no hit, and refusing it here keeps the answer
+        // the same whatever `ray_t.max` is (the early refusals above assume this floor).
+        let floor = hit.t - 3.0 * region.reach;
         match self.shape.meets(&region) {
             Meets::Inside => {}
             Meets::Outside => return None,
@@ -261,6 +269,7 @@ impl<S: Interior> Quad<S> {
             }
         }
         self.settle(ray, ray_t, hit)
+            .filter(|settled| settled.t >= floor)
     }
 }
 
