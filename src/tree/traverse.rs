@@ -259,7 +259,8 @@ fn prefetch(tree: &Tree, index: u32) {
     let _ = (tree, index);
 }
 
-/// Each coordinate of `v` in every lane.
+/// Each coordinate of `v` in every lane. (A function: a closure or `map` in its place
+/// was left out of line, and made the lanes outside the AVX2 copy, a call each.)
 #[inline(always)]
 fn splat3<B: Boxes>(token: B::Token, v: Vec3) -> [B; 3] {
     [
