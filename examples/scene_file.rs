@@ -1,33 +1,35 @@
 //! A scene from a glTF file, traced as the file says: a grove of one tree model at many
 //! sizes and stretches (scaled instances of one shared mesh), leaves that are cards with a
-//! leaf-shaped cut-out (a `Filtered` mesh: the alpha test inside the search), and a lamp
+//! leaf-shaped cut-out (the alpha of their texture, tested inside the search), and a lamp
 //! the camera does not see (a `Masked` object) that lights the grove by next-event
 //! estimation: it hangs in view above the trees, and the image shows its light, not it.
 //!
-//! `cargo run --release --example scene_file --features gltf` writes the grove's glTF file
-//! (and its buffer) to a temporary directory, loads it as any glTF file is loaded, and
-//! renders `scene_file.png`; `-- --scene PATH` renders another glTF file's meshes with the
-//! same camera and lamp handling; `-- --help` lists the rest.
+//! `cargo run --release --example scene_file --features gltf-images` writes the grove's
+//! glTF file (its buffer and its leaf image beside it) to a temporary directory, loads it
+//! as any glTF file is loaded, and renders `scene_file.png`; `-- --scene PATH` renders
+//! another glTF file as a viewer would: its textures (every set, transformed as the file
+//! says), its emitters as lights, and a sky around it (`--no-sky` turns it off); `--help`
+//! lists the rest.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::process::ExitCode;
 use std::sync::Arc;
+use std::time::Instant;
 
-use hitkit::glam::{DQuat, DVec2, DVec3};
-use hitkit::load::{Alpha, GltfLights, GltfScene, GltfTexture, Projection, load_gltf};
-use hitkit::{
-    Aabb, Bvh, Candidate, Filtered, HitRecord, Hittable, Interval, LightSample, Masked,
-    PdfHittable, Ray, ShadingContext, Transformed,
-};
+use hitkit::glam::{DQuat, DVec3};
+use hitkit::load::{GltfOptions, GltfScene, Projection, load_gltf_with};
+use hitkit::{Bvh, HitRecord, Hittable, Masked, PdfHittable};
 use hitkit_render::cli::{Options, run_with};
-use hitkit_render::texture::Texture;
+use hitkit_render::texture::Textures;
 use hitkit_render::{Background, CameraSettings, Color, Material, Scene};
 
 /// The camera's rays carry this bit alone; everything but a lamp has it.
 const CAMERA: u32 = 1;
 
 const EXTRA: &str = "\n  \
---scene PATH  a glTF file to render instead of the grove written to a temporary directory";
+--scene PATH     a glTF file to render instead of the grove written to a temporary directory\n  \
+--scene-index N  which of the file's scenes (its default scene, else its first, if not given)\n  \
+--no-sky         light the file by its own emitters alone (else a sky lights it too)";
 
 fn main() -> ExitCode {
     let defaults = Options {
@@ -39,16 +41,26 @@ fn main() -> ExitCode {
         output: "scene_file.png".into(),
         threads: 0,
     };
-    let (mut path, mut rest, mut args) = (None, Vec::new(), std::env::args().skip(1));
+    let (mut path, mut sky, mut options) = (None, true, GltfOptions::default());
+    let (mut rest, mut args) = (Vec::new(), std::env::args().skip(1));
     while let Some(arg) = args.next() {
-        if arg == "--scene" {
-            path = args.next().map(PathBuf::from);
-            if path.is_none() {
-                eprintln!("error: --scene needs a path");
-                return ExitCode::from(2);
-            }
-        } else {
-            rest.push(arg);
+        match arg.as_str() {
+            "--scene" => match args.next() {
+                Some(p) => path = Some(PathBuf::from(p)),
+                None => {
+                    eprintln!("error: --scene needs a path");
+                    return ExitCode::from(2);
+                }
+            },
+            "--scene-index" => match args.next().and_then(|n| n.parse().ok()) {
+                Some(n) => options = options.with_scene(n),
+                None => {
+                    eprintln!("error: --scene-index needs a number");
+                    return ExitCode::from(2);
+                }
+            },
+            "--no-sky" => sky = false,
+            _ => rest.push(arg),
         }
     }
     run_with("scene_file", defaults, rest, EXTRA, |o| {
@@ -57,17 +69,20 @@ fn main() -> ExitCode {
             Some(path) => path,
             None => write_grove().map_err(|e| format!("cannot write the grove's file: {e}"))?,
         };
-        let start = std::time::Instant::now();
-        let file = load_gltf(&path).map_err(|e| e.to_string())?;
+        let start = Instant::now();
+        let file = load_gltf_with(&path, options).map_err(|e| e.to_string())?;
         let loaded = start.elapsed();
         for left in &file.left_out {
             eprintln!("note: left out of {}: {left:?}", path.display());
         }
-        let textures = images(&path);
-        let mut scene = scene(&file, &textures, o.width, grove)
-            .map_err(|e| format!("{}: {e}", path.display()))?;
+        let file = Arc::new(file);
+        let mut scene =
+            scene(&file, o.width, grove, sky).map_err(|e| format!("{}: {e}", path.display()))?;
+        let textures: usize = file.images.iter().flatten().map(|i| i.heap_bytes()).sum();
+        let meshes: usize = file.meshes.iter().map(|m| m.mesh.heap_bytes()).sum();
         eprintln!(
-            "{}: loaded in {:.3} s ({} instances of {} meshes, {} faces placed), scene in {:.3} s",
+            "{}: loaded in {:.3} s ({} instances of {} meshes, {} faces placed; {} images decoded, \
+             {:.1} MB of texels, {:.1} MB of meshes), scene in {:.3} s",
             path.display(),
             loaded.as_secs_f64(),
             file.instances.len(),
@@ -76,6 +91,9 @@ fn main() -> ExitCode {
                 .iter()
                 .map(|i| file.meshes[i.mesh].mesh.face_count())
                 .sum::<usize>(),
+            file.images.iter().flatten().count(),
+            textures as f64 / 1e6,
+            meshes as f64 / 1e6,
             (start.elapsed() - loaded).as_secs_f64(),
         );
         if grove {
@@ -90,196 +108,87 @@ fn main() -> ExitCode {
     })
 }
 
-/// The leaves' texture: opaque inside a leaf's outline (a pointed oval along the card's
-/// `v`, with a notch cut at its stem), nothing outside. A renderer would read this from
-/// the material's image; the grove's file has none.
-fn leaf_alpha(uv: DVec2) -> f64 {
-    let (x, y) = (2.0 * uv.x - 1.0, 2.0 * uv.y - 1.0);
-    let half_width = 0.6 * (1.0 - y * y);
-    let notch = y < -0.8 && x.abs() < 0.1;
-    if x.abs() <= half_width && !notch {
-        1.0
-    } else {
-        0.0
-    }
+/// A glTF material as the renderer shades it: its base colour and emission, each its
+/// factor times its texture where it has one, looked up at the hit's surface.
+#[derive(Debug)]
+struct GltfLook {
+    file: Arc<GltfScene>,
+    material: usize,
 }
 
-/// The images of the glTF file at `path`, by their index in the file, decoded (PNG, JPEG)
-/// as colour (sRGB) textures; `None` for one that cannot be read (a warning says which).
-fn images(path: &Path) -> Vec<Option<Arc<Texture>>> {
-    let read = || -> Result<Vec<Option<Arc<Texture>>>, String> {
-        let bytes = std::fs::read(path).map_err(|e| e.to_string())?;
-        let file = gltf::Gltf::from_slice_without_validation(&bytes).map_err(|e| e.to_string())?;
-        let base = path.parent();
-        let buffers = gltf::import_buffers(&file.document, base, file.blob.clone())
-            .map_err(|e| e.to_string())?;
-        Ok(file
-            .document
-            .images()
-            .map(|image| {
-                let index = image.index();
-                let decoded = gltf::image::Data::from_source(image.source(), base, &buffers)
-                    .map_err(|e| e.to_string())
-                    .and_then(|d| {
-                        let channels = match d.format {
-                            gltf::image::Format::R8 => 1,
-                            gltf::image::Format::R8G8 => 2,
-                            gltf::image::Format::R8G8B8 => 3,
-                            gltf::image::Format::R8G8B8A8 => 4,
-                            other => return Err(format!("{other:?} texels are not read")),
-                        };
-                        Texture::from_pixels(d.width, d.height, channels, &d.pixels, true)
-                            .ok_or_else(|| "a short image".to_string())
-                    });
-                decoded
-                    .map_err(|e| eprintln!("warning: image {index} of {}: {e}", path.display()))
-                    .ok()
-                    .map(Arc::new)
-            })
-            .collect())
-    };
-    read().unwrap_or_else(|e| {
-        eprintln!("warning: no textures from {}: {e}", path.display());
-        Vec::new()
-    })
-}
-
-/// The scene's emitters as the renderer samples them: `lights` (from
-/// [`GltfScene::lights_with`], each face weighed by its emissive texture's mean over it),
-/// with each sample's `uv` made the mesh's texture coordinates at the sampled point, so
-/// that a textured emitter's material looks its texture up there as it does at a hit.
-struct TexturedLights {
-    lights: GltfLights,
-    /// For each light: its face's corner uvs, in the order the light's corners were given
-    /// (a mirroring instance's two last swapped), where its mesh has them.
-    uvs: Vec<Option<[DVec2; 3]>>,
-}
-
-impl Hittable for TexturedLights {
-    fn hit(&self, ray: &Ray, ray_t: Interval) -> Option<HitRecord> {
-        self.lights.tree.hit(ray, ray_t)
-    }
-    fn bounding_box(&self) -> Aabb {
-        self.lights.tree.bounding_box()
-    }
-}
-
-impl PdfHittable for TexturedLights {
-    fn pdf_value(&self, origin: DVec3, direction: DVec3) -> f64 {
-        self.lights.tree.pdf_value(origin, direction)
-    }
-    fn sample_direction(&self, origin: DVec3, u: DVec2) -> DVec3 {
-        self.lights.tree.sample_direction(origin, u)
-    }
-    fn light_pdf(&self, at: &ShadingContext, direction: DVec3) -> f64 {
-        self.lights.tree.light_pdf(at, direction)
-    }
-    fn sample_light(&self, at: &ShadingContext, u: DVec2) -> Option<LightSample> {
-        let mut sample = self.lights.tree.sample_light(at, u)?;
-        if let Some([a, b, c]) = self.uvs[sample.light] {
-            // A triangle light's `uv` is its `(alpha, beta)`: the weights of its second and
-            // third corners.
-            let (alpha, beta) = (sample.record.uv.x, sample.record.uv.y);
-            sample.record.uv = a * (1.0 - alpha - beta) + b * alpha + c * beta;
+impl Textures for GltfLook {
+    fn albedo(&self, hit: &HitRecord) -> Color {
+        let material = &self.file.materials[self.material];
+        let [r, g, b, _] = material.base_color;
+        let factor = Color::new(r, g, b);
+        match (material.base_color_texture, self.file.surface(hit)) {
+            (Some(t), Some(at)) => factor * self.file.texture_at(&t, &at).truncate(),
+            _ => factor,
         }
-        Some(sample)
+    }
+
+    fn emission(&self, hit: &HitRecord) -> Color {
+        let material = &self.file.materials[self.material];
+        if material.emissive == DVec3::ZERO || !(hit.front_face || material.double_sided) {
+            return Color::ZERO;
+        }
+        match (material.emissive_texture, self.file.surface(hit)) {
+            (Some(t), Some(at)) => material.emissive * self.file.texture_at(&t, &at).truncate(),
+            _ => material.emissive,
+        }
+    }
+
+    fn emits(&self) -> bool {
+        self.file.materials[self.material].emissive != DVec3::ZERO
     }
 }
 
-/// The scene the file describes, for the examples' renderer: every instance into one
-/// tree (cut-outs and single-sided surfaces behind a filter; for the grove, its lamp
-/// hidden from the camera), the materials by their base colour and emission (textured
-/// where the file says, from `textures`), the emitters as a light tree weighed by their
-/// textures, the file's own camera where it has one, and a sky where nothing emits.
+/// The scene the file describes, for the examples' renderer: every instance into one tree
+/// as glTF asks it drawn (cut-outs and single-sided surfaces inside the search; for the
+/// grove, its lamp hidden from the camera), each material by its base colour and emission
+/// (textured where the file says), the emitters as a light tree weighed by their textures,
+/// the file's own camera where it has one, and a sky (unless `sky` is false, or the grove).
 fn scene(
-    file: &GltfScene,
-    textures: &[Option<Arc<Texture>>],
+    file: &Arc<GltfScene>,
     width: usize,
     grove: bool,
+    sky: bool,
 ) -> Result<Scene<Bvh<Box<dyn Hittable>>>, String> {
-    let texture = |t: Option<GltfTexture>| t.and_then(|t| textures.get(t.image).cloned().flatten());
-    let mut objects: Vec<Box<dyn Hittable>> = Vec::new();
-    let placed = file.transformed().map_err(|e| e.to_string())?;
-    for (moved, instance) in placed.into_iter().zip(&file.instances) {
-        let mesh = &file.meshes[instance.mesh];
-        let material = mesh.material.map(|m| &file.materials[m]);
-        let lamp = material.is_some_and(|m| m.emissive != DVec3::ZERO);
-        // What glTF asks a renderer to cut: below the alpha cutoff (the base colour's
-        // alpha times its texture's), and the back of a single-sided surface.
-        let cutoff = match material.map(|m| m.alpha) {
-            Some(Alpha::Mask { cutoff }) => Some(cutoff),
-            _ => None,
-        };
-        let single_sided = material.is_some_and(|m| !m.double_sided) && !grove;
-        let object: Box<dyn Hittable> = if cutoff.is_some() || single_sided {
-            let alpha_texture = material.and_then(|m| texture(m.base_color_texture));
-            let factor = material.map_or(1.0, |m| m.base_color[3]);
-            let cut = Filtered::new(mesh.mesh.clone(), move |c: &Candidate| {
-                if single_sided && !c.front_face() {
-                    return false;
-                }
-                let Some(cutoff) = cutoff else { return true };
-                let alpha = match &alpha_texture {
-                    Some(t) => factor * t.sample(c.uv()).w,
-                    None if grove => leaf_alpha(c.uv()),
-                    None => factor,
-                };
-                alpha >= cutoff
-            });
-            let moved = Transformed::affine(Arc::new(cut), instance.transform)
-                .map_err(|e| e.to_string())?;
-            Box::new(moved)
-        } else {
-            Box::new(moved)
-        };
-        let mask = if lamp && grove { !CAMERA } else { u32::MAX };
-        objects.push(Box::new(Masked::new(object, mask)));
-    }
+    let objects = file
+        .objects()
+        .map_err(|e| e.to_string())?
+        .into_iter()
+        .zip(&file.instances)
+        .map(|(object, instance)| {
+            let material = &file.materials[file.meshes[instance.mesh].material];
+            let lamp = grove && material.emissive != DVec3::ZERO;
+            let mask = if lamp { !CAMERA } else { u32::MAX };
+            Box::new(Masked::new(object, mask)) as Box<dyn Hittable>
+        })
+        .collect();
     let materials = file
         .materials
         .iter()
-        .map(|m| {
+        .enumerate()
+        .map(|(i, m)| {
             let [r, g, b, _] = m.base_color;
-            match (
-                m.emissive != DVec3::ZERO,
-                texture(m.emissive_texture),
-                texture(m.base_color_texture),
-            ) {
-                (true, Some(t), _) => Material::TexturedLight(m.emissive, t),
-                (true, None, _) => Material::Light(m.emissive),
-                (false, _, Some(t)) => Material::TexturedLambertian(Color::new(r, g, b), t),
-                (false, _, None) => Material::Lambertian(Color::new(r, g, b)),
+            let plain = m.emissive == DVec3::ZERO
+                && m.base_color_texture.is_none()
+                && m.emissive_texture.is_none();
+            if plain {
+                Material::Lambertian(Color::new(r, g, b))
+            } else {
+                Material::Textured(Arc::new(GltfLook {
+                    file: file.clone(),
+                    material: i,
+                }))
             }
         })
         .collect::<Vec<_>>();
-    // Each emitting face weighed by its texture's mean luminance over it (a face the
-    // texture leaves dark is no light); its corner uvs kept for the lookup at a sample.
-    let mut corner_uvs = std::collections::HashMap::new();
-    let weighed = file
-        .lights_with(|face| {
-            let uvs = face.uvs;
-            corner_uvs.insert((face.instance, face.face), uvs);
-            match (texture(face.material.emissive_texture), uvs) {
-                (Some(t), Some(uvs)) => t.mean_luminance(uvs),
-                _ => 1.0,
-            }
-        })
-        .map_err(|e| e.to_string())?;
-    let lights = weighed.map(|lights| {
-        let uvs = lights
-            .sources
-            .iter()
-            .map(|&(instance, face)| {
-                let mirrored = file.instances[instance].transform.matrix3.determinant() < 0.0;
-                corner_uvs
-                    .get(&(instance, face))
-                    .copied()
-                    .flatten()
-                    .map(|[a, b, c]| if mirrored { [a, c, b] } else { [a, b, c] })
-            })
-            .collect();
-        Box::new(TexturedLights { lights, uvs }) as Box<dyn PdfHittable>
-    });
+    let lights = file
+        .textured_lights()
+        .map_err(|e| e.to_string())?
+        .map(|lights| Box::new(lights) as Box<dyn PdfHittable>);
     let world = Bvh::new(objects);
     // The file's own camera; else looking at the scene's box from the front, a little
     // above and to the right, from where its bounding sphere fills the view's height.
@@ -314,21 +223,21 @@ fn scene(
             }
         }
     }
-    let nothing_emits = lights.is_none();
+    // A viewer lights a model by its surroundings as well as by what it emits; the grove
+    // is lit by its lamp under a night sky.
+    let background = if grove || (!sky && lights.is_some()) {
+        Background::Solid(Color::new(0.05, 0.06, 0.09))
+    } else if !sky {
+        Background::Solid(Color::ZERO)
+    } else {
+        Background::Sky
+    };
     Ok(Scene {
         world,
-        materials: if materials.is_empty() {
-            vec![Material::Lambertian(Color::splat(0.7))]
-        } else {
-            materials
-        },
+        materials,
         lights,
         next_event: true,
-        background: if nothing_emits {
-            Background::Sky
-        } else {
-            Background::Solid(Color::new(0.05, 0.06, 0.09))
-        },
+        background,
         camera,
     })
 }
@@ -336,13 +245,42 @@ fn scene(
 /// A mesh of the grove's file: its name, corners and triangles' indices.
 type Model<'a> = (&'a str, Vec<[f32; 3]>, &'a [u16]);
 
+/// The leaves' image: green, opaque inside a leaf's outline (a pointed oval along the
+/// card's `v`, with a notch cut at its stem), transparent outside; `n` x `n` texels.
+fn leaf_image(n: usize) -> Vec<u8> {
+    let mut texels = Vec::with_capacity(4 * n * n);
+    for j in 0..n {
+        for i in 0..n {
+            let (u, v) = ((i as f64 + 0.5) / n as f64, (j as f64 + 0.5) / n as f64);
+            let (x, y) = (2.0 * u - 1.0, 2.0 * v - 1.0);
+            let half_width = 0.6 * (1.0 - y * y);
+            let notch = y < -0.8 && x.abs() < 0.1;
+            let alpha = if x.abs() <= half_width && !notch {
+                255
+            } else {
+                0
+            };
+            texels.extend([255, 255, 255, alpha]);
+        }
+    }
+    texels
+}
+
 /// Writes the grove: a ground square, one tree model (a trunk box and three crossed leaf
-/// cards) placed eleven times at other sizes, stretches and turns (some mirrored), and a
-/// lamp panel facing down over them; as `grove.gltf` and `grove.bin` in a temporary
-/// directory. Returns the `.gltf` file's path.
+/// cards, their cut-out an image's alpha) placed eleven times at other sizes, stretches and
+/// turns (some mirrored), and a lamp panel facing down over them; as `grove.gltf`,
+/// `grove.bin` and `leaf.png` in a temporary directory. Returns the `.gltf` file's path.
 fn write_grove() -> std::io::Result<PathBuf> {
     let dir = std::env::temp_dir().join(format!("hitkit-grove-{}", std::process::id()));
     std::fs::create_dir_all(&dir)?;
+    let leaf = std::io::BufWriter::new(std::fs::File::create(dir.join("leaf.png"))?);
+    let mut encoder = png::Encoder::new(leaf, 64, 64);
+    encoder.set_color(png::ColorType::Rgba);
+    encoder.set_depth(png::BitDepth::Eight);
+    encoder
+        .write_header()
+        .and_then(|mut w| w.write_image_data(&leaf_image(64)))
+        .map_err(std::io::Error::other)?;
     // Four meshes in one buffer: positions (f32 x 3), uvs (f32 x 2) and u16 indices each.
     let square_xz = [
         [0.0, 0.0, 0.0],
@@ -428,9 +366,9 @@ fn write_grove() -> std::io::Result<PathBuf> {
         ));
     }
     let materials = [
-        r#"{"name": "ground", "pbrMetallicRoughness": {"baseColorFactor": [0.45, 0.42, 0.35, 1]}}"#,
-        r#"{"name": "bark", "pbrMetallicRoughness": {"baseColorFactor": [0.35, 0.22, 0.12, 1]}}"#,
-        r#"{"name": "leaves", "alphaMode": "MASK", "alphaCutoff": 0.5, "doubleSided": true, "pbrMetallicRoughness": {"baseColorFactor": [0.25, 0.55, 0.15, 1]}}"#,
+        r#"{"name": "ground", "doubleSided": true, "pbrMetallicRoughness": {"baseColorFactor": [0.45, 0.42, 0.35, 1]}}"#,
+        r#"{"name": "bark", "doubleSided": true, "pbrMetallicRoughness": {"baseColorFactor": [0.35, 0.22, 0.12, 1]}}"#,
+        r#"{"name": "leaves", "alphaMode": "MASK", "alphaCutoff": 0.5, "doubleSided": true, "pbrMetallicRoughness": {"baseColorFactor": [0.25, 0.55, 0.15, 1], "baseColorTexture": {"index": 0}}}"#,
         r#"{"name": "lamp", "emissiveFactor": [1, 1, 1], "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 12}}}"#,
     ];
     // Nodes: the ground, the lamp, then for each tree a parent and its four children.
@@ -484,6 +422,8 @@ fn write_grove() -> std::io::Result<PathBuf> {
 "bufferViews": [{}],
 "accessors": [{}],
 "materials": [{}],
+"images": [{{"uri": "leaf.png"}}],
+"textures": [{{"source": 0}}],
 "meshes": [{}],
 "nodes": [{}],
 "scenes": [{{"nodes": [{}]}}],

@@ -154,7 +154,8 @@
 //! | `rand09` | no | `RandomDirection09`: the same with a `rand` 0.9 generator |
 //! | `rayon` | no | `Bvh::new_parallel` and `TriangleMesh::new_parallel`: trees built on every core (the same trees); needs `std` |
 //! | `obj` | no | `load::load_obj`: an OBJ file's objects as `TriangleMesh`es with their materials' names (through `tobj`); needs `std` |
-//! | `gltf` | no | `load::load_gltf`: a glTF file's meshes (lists, strips and fans of triangles), instances under their composed transforms, materials' alpha modes and emitters as a `LightTree` (through `gltf`); what it leaves out listed; needs `std` |
+//! | `gltf` | no | `load::load_gltf`: a glTF file's meshes (lists, strips and fans of triangles, sparse accessors, every texture-coordinate set), instances under their composed transforms, materials' alpha modes, textures (with their samplers and `KHR_texture_transform`) and emitters as a `LightTree` (through `gltf`); the surface at a hit; what it leaves out listed; needs `std` |
+//! | `gltf-images` | no | with `gltf`: the images the materials' colour and emission textures read, decoded (PNG, JPEG) on every core, and looked up by `GltfScene::texel` |
 //!
 //! One of `std` and `libm` must be enabled.
 //!
@@ -221,7 +222,9 @@ pub use tree::{TreeCost, Visits};
 /// Scene files as hitkit's types, behind the `obj` and `gltf` features:
 /// [`load_obj`](load::load_obj) reads an OBJ file's objects as [`TriangleMesh`]es,
 /// [`load_gltf`](load::load_gltf) a glTF file's meshes, instances (with their composed
-/// transforms), materials' alpha modes and emitters. Errors name the file and what is
+/// transforms), materials (alpha, emission, textures) and emitters, and with the
+/// `gltf-images` feature its images; a glTF scene answers what shading asks at a hit
+/// ([`GltfScene::surface`](load::GltfScene::surface)). Errors name the file and what is
 /// wrong ([`LoadError`](load::LoadError)). See the guide's
 /// [scene files](guide::scene_files).
 #[cfg(any(feature = "obj", feature = "gltf"))]
@@ -229,8 +232,9 @@ pub use tree::{TreeCost, Visits};
 pub mod load {
     #[cfg(feature = "gltf")]
     pub use crate::features::gltf::{
-        Alpha, Emitter, GltfCamera, GltfInstance, GltfLights, GltfMaterial, GltfMesh, GltfScene,
-        GltfTexture, LeftOut, Projection, load_gltf, load_gltf_slice,
+        Alpha, Emitter, Filter, GltfCamera, GltfImage, GltfInstance, GltfLights, GltfMaterial,
+        GltfMesh, GltfOptions, GltfScene, GltfSurface, GltfTexture, LeftOut, Projection, Sampler,
+        Scenes, TextureTransform, Wrap, load_gltf, load_gltf_slice, load_gltf_with,
     };
     pub use crate::features::load::{LoadError, LoadErrorKind};
     #[cfg(feature = "obj")]

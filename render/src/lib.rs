@@ -97,10 +97,11 @@ impl<W: Hittable> Scene<W> {
     pub fn effects(&self) -> Effects {
         Effects {
             background: self.background != Background::Solid(Color::ZERO),
-            emission: self
-                .materials
-                .iter()
-                .any(|m| matches!(m, Material::Light(_) | Material::TexturedLight(..))),
+            emission: self.materials.iter().any(|m| match m {
+                Material::Light(_) => true,
+                Material::Textured(t) => t.emits(),
+                _ => false,
+            }),
             light_sampling: self.lights.is_some(),
             defocus: self.camera.defocus_angle > 0.0,
         }

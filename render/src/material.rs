@@ -8,7 +8,7 @@ use rand::RngExt;
 use rand::rngs::SmallRng;
 
 use crate::Color;
-use crate::texture::Texture;
+use crate::texture::Textures;
 
 #[derive(Clone, Debug)]
 pub enum Material {
@@ -20,12 +20,9 @@ pub enum Material {
     Dielectric(f64),
     /// Emits this radiance from its front face; reflects nothing.
     Light(Color),
-    /// Diffuse, its albedo the colour times the texture at the hit's `uv` (glTF's base
-    /// colour factor and texture).
-    TexturedLambertian(Color, Arc<Texture>),
-    /// Emits the colour times the texture at the hit's `uv` from its front face (glTF's
-    /// emissive factor and texture); reflects nothing.
-    TexturedLight(Color, Arc<Texture>),
+    /// Diffuse with the albedo its lookup gives at the hit, emitting what it gives there
+    /// (a glTF material: base colour and emission, each a factor times a texture).
+    Textured(Arc<dyn Textures>),
 }
 
 /// What happens to a ray at a surface.
@@ -45,9 +42,7 @@ impl Material {
     pub fn emitted(&self, hit: &HitRecord) -> Color {
         match self {
             Material::Light(radiance) if hit.front_face => *radiance,
-            Material::TexturedLight(radiance, texture) if hit.front_face => {
-                *radiance * texture.sample(hit.uv).truncate()
-            }
+            Material::Textured(textures) => textures.emission(hit),
             _ => Color::ZERO,
         }
     }
@@ -56,9 +51,7 @@ impl Material {
     pub fn scatter(&self, direction: DVec3, hit: &HitRecord, rng: &mut SmallRng) -> Scatter {
         match *self {
             Material::Lambertian(albedo) => Scatter::Diffuse(albedo),
-            Material::TexturedLambertian(albedo, ref texture) => {
-                Scatter::Diffuse(albedo * texture.sample(hit.uv).truncate())
-            }
+            Material::Textured(ref textures) => Scatter::Diffuse(textures.albedo(hit)),
             Material::Metal(albedo, fuzz) => {
                 let reflected =
                     reflect(direction.normalize(), hit.normal) + fuzz * random_unit_vector(rng);
@@ -80,7 +73,7 @@ impl Material {
                 };
                 Scatter::Specular(out, Color::ONE)
             }
-            Material::Light(_) | Material::TexturedLight(..) => Scatter::None,
+            Material::Light(_) => Scatter::None,
         }
     }
 }

@@ -25,7 +25,7 @@ pub struct Candidate<'a> {
     crossing: &'a Crossing,
 }
 
-impl Candidate<'_> {
+impl<'a> Candidate<'a> {
     /// The face, numbered as the caller's list of faces numbers it
     /// ([`HitRecord::primitive`]).
     #[inline]
@@ -49,6 +49,12 @@ impl Candidate<'_> {
     #[must_use]
     pub fn uv(&self) -> DVec2 {
         self.mesh.uv_at(self.position, self.crossing.barycentric())
+    }
+
+    /// The face.
+    #[cfg(feature = "gltf")]
+    pub(crate) fn face(&self) -> super::Face<'a> {
+        self.mesh.face_at(self.position)
     }
 
     /// Whether the ray crosses the face from its front, the side its corners wind

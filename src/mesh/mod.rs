@@ -264,6 +264,21 @@ impl TriangleMesh {
             + self.tree.heap_bytes()
     }
 
+    /// For each face in the mesh's own order, its number in the caller's list.
+    #[cfg(feature = "gltf")]
+    pub(crate) fn face_numbers(&self) -> &[u32] {
+        &self.tree.order
+    }
+
+    /// The face at `position` in the mesh's own order.
+    #[cfg(feature = "gltf")]
+    pub(crate) fn face_at(&self, position: usize) -> Face<'_> {
+        Face {
+            mesh: self,
+            position,
+        }
+    }
+
     /// The hittable faces, each a [`Hittable`] of its own, in no particular order.
     pub fn faces(&self) -> impl ExactSizeIterator<Item = Face<'_>> {
         (0..self.triangles.len()).map(|position| Face {

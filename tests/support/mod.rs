@@ -117,3 +117,14 @@ pub fn assert_same_mean((mean_a, se_a): (f64, f64), (mean_b, se_b): (f64, f64), 
         "{what}: standard error {se} too large for mean {mean_a}"
     );
 }
+
+/// Writes a PNG of `width` x `height` 8-bit RGBA texels, row by row from the top (for the
+/// glTF tests' images).
+pub fn write_png(path: &std::path::Path, width: u32, height: u32, texels: &[[u8; 4]]) {
+    let file = std::io::BufWriter::new(std::fs::File::create(path).unwrap());
+    let mut encoder = png::Encoder::new(file, width, height);
+    encoder.set_color(png::ColorType::Rgba);
+    encoder.set_depth(png::BitDepth::Eight);
+    let mut writer = encoder.write_header().unwrap();
+    writer.write_image_data(texels.as_flattened()).unwrap();
+}
