@@ -312,6 +312,11 @@ fn a_light_sample_names_its_face_and_its_texture_coordinates() {
         let point = sample.record.point;
         let expected = DVec2::new((1e6 - point.x) / 2.0, point.y / 3.0);
         assert!((uv - expected).abs().max_element() < 1e-9);
+        // The lights hit along the sample's direction: the same face, named alike.
+        let ray = Ray::new(at.point, sample.direction);
+        let hit = lights.hit(&ray, Interval::FORWARD).unwrap();
+        assert_eq!(hit.primitive, sample.record.primitive);
+        assert!((hit.uv - sample.record.uv).abs().max_element() < 1e-9);
     }
     assert!(sampled > 400, "{sampled}");
     std::fs::remove_dir_all(&dir).unwrap();

@@ -9,8 +9,8 @@ use glam::{DVec2, DVec3};
 use super::{GltfMaterial, GltfScene};
 use crate::light::Emitters;
 use crate::{
-    Aabb, GeometryError, HitRecord, Hittable, Interval, LightSample, LightTree, PdfHittable, Quad,
-    Ray, ShadingContext, Triangle,
+    Aabb, Emission, GeometryError, HitRecord, Hittable, Interval, LightSample, LightTree,
+    PdfHittable, Quad, Ray, ShadingContext, Triangle,
 };
 
 impl GltfScene {
@@ -188,7 +188,11 @@ impl GltfLights {
 
 impl Hittable for GltfLights {
     fn hit(&self, ray: &Ray, ray_t: Interval) -> Option<HitRecord> {
-        self.tree.hit(ray, ray_t)
+        // The tree holds no `Masked` light: its light hit is its hit.
+        self.light_hit(ray, ray_t).map(|(_, record)| record)
+    }
+    fn occluded(&self, ray: &Ray, ray_t: Interval) -> bool {
+        self.tree.occluded(ray, ray_t)
     }
     fn bounding_box(&self) -> Aabb {
         self.tree.bounding_box()
@@ -210,5 +214,13 @@ impl PdfHittable for GltfLights {
         let uvs = self.uvs.get(sample.light).copied().flatten();
         sample.record = self.named(uvs, sample.light, sample.record);
         Some(sample)
+    }
+    fn light_hit(&self, ray: &Ray, ray_t: Interval) -> Option<(usize, HitRecord)> {
+        let (light, record) = self.tree.light_hit(ray, ray_t)?;
+        let uvs = self.uvs.get(light).copied().flatten();
+        Some((light, self.named(uvs, light, record)))
+    }
+    fn emission(&self) -> Emission {
+        self.tree.emission()
     }
 }

@@ -152,8 +152,9 @@ pub enum LeftOut {
         mode: &'static str,
     },
     /// A node whose transform places nothing: scaled to zero (which files use to hide a
-    /// part), or past what [`Transformed::affine`] takes. Its primitives are left out;
-    /// its children are not.
+    /// part), or past what [`Transformed::affine`] takes (its primitives are left out, its
+    /// children are not); or turned by a quaternion that is no rotation (a zero one, say:
+    /// it is left out with its children).
     Node {
         /// The node's name (or `node N`).
         node: String,
@@ -216,7 +217,8 @@ impl GltfMesh {
     }
 
     /// Face `number` (as the file numbers its triangles, and a hit's `primitive` does),
-    /// in constant time; `None` past the faces, and for a face with no area (never hit).
+    /// in constant time (a table made at load; a mesh rebuilt since is searched); `None`
+    /// past the faces, and for a face with no area (never hit).
     ///
     /// ```no_run
     /// # fn main() -> Result<(), hitkit::load::LoadError> {
@@ -230,8 +232,15 @@ impl GltfMesh {
     /// ```
     #[must_use]
     pub fn face(&self, number: u32) -> Option<Face<'_>> {
-        let place = *self.places.get(number as usize)?;
-        (place != u32::MAX).then(|| self.mesh.face_at(place as usize))
+        let place = *self.places.get(number as usize)? as usize;
+        let numbers = self.mesh.face_numbers();
+        if numbers.get(place) == Some(&number) {
+            return Some(self.mesh.face_at(place));
+        }
+        // A face with no area; or the mesh was rebuilt since it was loaded (through
+        // `Arc::get_mut`), which reorders its faces: found by a search, never wrong.
+        let place = numbers.iter().position(|&n| n == number)?;
+        Some(self.mesh.face_at(place))
     }
 
     /// How many sets of texture coordinates (`TEXCOORD_0` to `TEXCOORD_n-1`) it has.

@@ -45,7 +45,7 @@ pub(super) fn document(
     let (json, blob) = if bytes.starts_with(b"glTF") {
         let (json, bin) = split_glb(bytes).map_err(|e| parse(format!("a GLB file: {e}")))?;
         (json.to_vec(), bin.map(<[u8]>::to_vec))
-    } else if bytes.starts_with(b"{") || bytes.trim_ascii_start().starts_with(b"{") {
+    } else if bytes.trim_ascii_start().starts_with(b"{") {
         (bytes.to_vec(), None)
     } else {
         // Neither JSON nor a GLB: name what its first bytes are, rather than a JSON
