@@ -2,12 +2,16 @@
 //! arbitrary `u` of `[0, 1)^2` (corners included): the direction and its density are
 //! never NaN or infinite (clause 4); where the light can be reached from the point at all,
 //! every sampled direction has a positive density (clause 6); and a light sample's ray
-//! finds the light at the distance it reports, with a positive, finite density.
+//! finds the light at the distance it reports, with a positive, finite density, from a
+//! surface receiving on either side and on one alone; and so do two copies of it in a
+//! `LightTree`.
 
 #![no_main]
 
 use hitkit::glam::DVec2;
-use hitkit::{Interval, Ray, ShadingContext};
+use std::sync::Arc;
+
+use hitkit::{Interval, LightTree, PdfHittable, Ray, ShadingContext};
 use hitkit_fuzz::LightInput;
 use libfuzzer_sys::fuzz_target;
 
@@ -29,6 +33,12 @@ fuzz_target!(|input: LightInput| {
     // origin on the light's own plane, or the light past f64's reach, has none).
     let middle = light.sample_direction(origin, DVec2::splat(0.5));
     let reachable = light.pdf_value(origin, middle) > 0.0;
+    // Two copies in a light tree: a walk that weighs the copies by the context.
+    let pair: Arc<dyn PdfHittable> =
+        match LightTree::from_lights(vec![light.clone(), light.clone()], &[1.0, 1.0]) {
+            Ok(tree) => Arc::new(tree),
+            Err(_) => light.clone(),
+        };
     let at = match input.normal {
         Some(n) => ShadingContext::on_surface(origin, n.get()),
         None => ShadingContext::at(origin),
@@ -52,15 +62,27 @@ fuzz_target!(|input: LightInput| {
                 "from {origin}, u {u}: direction {d} has density 0"
             );
         }
-        if let Some(sample) = light.sample_light(&at, u) {
-            assert!(sample.pdf > 0.0 && sample.pdf.is_finite(), "{sample:?}");
-            assert!(
-                sample.distance.is_finite() && sample.direction.is_finite(),
-                "{sample:?}"
-            );
-            let ray = Ray::new(at.point, sample.direction);
-            let hit = light.hit(&ray, Interval::FORWARD);
-            assert_eq!(hit.map(|h| h.t), Some(sample.distance), "{sample:?}");
+        // From a surface receiving on either side, and on its front alone.
+        let reflecting = ShadingContext {
+            one_sided: true,
+            ..at
+        };
+        for (light, at) in [
+            (&light, at),
+            (&light, reflecting),
+            (&pair, at),
+            (&pair, reflecting),
+        ] {
+            if let Some(sample) = light.sample_light(&at, u) {
+                assert!(sample.pdf > 0.0 && sample.pdf.is_finite(), "{sample:?}");
+                assert!(
+                    sample.distance.is_finite() && sample.direction.is_finite(),
+                    "{sample:?}"
+                );
+                let ray = Ray::new(at.point, sample.direction);
+                let hit = light.hit(&ray, Interval::FORWARD);
+                assert_eq!(hit.map(|h| h.t), Some(sample.distance), "{sample:?}");
+            }
         }
     }
 });

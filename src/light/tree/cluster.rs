@@ -7,7 +7,8 @@ use core::f64::consts::PI;
 use glam::DVec3;
 
 use super::Emission;
-use crate::math::{atan2, length, sin_cos, sqrt};
+use crate::math::{atan2, gamma, length, sin_cos, sqrt};
+use crate::sample::Receiver;
 use crate::sample::direction_of;
 use crate::{Aabb, GeometryError};
 
@@ -195,7 +196,7 @@ impl Cluster {
     /// power at a point `d` away, so the clamp is what the cluster can deliver at all. It
     /// scales with the square of the unit of length, as `d^2` does, so that the choices do
     /// not depend on the unit (pbrt-v4 clamps `d^2` at half the box's diagonal, a length).
-    pub(super) fn importance(&self, p: DVec3, normal: Option<DVec3>) -> f64 {
+    pub(super) fn importance(&self, p: DVec3, normal: Option<Receiver>) -> f64 {
         if self.power == 0.0 {
             return 0.0;
         }
@@ -215,10 +216,32 @@ impl Cluster {
         if importance.is_nan() { 0.0 } else { importance }
     }
 
+    /// Whether any point of the cluster's box lies in front of `receiver` (on its lit
+    /// side, or on its plane) where it receives on one side alone; always for one that
+    /// receives on both, and with none.
+    pub(super) fn in_view(&self, p: DVec3, receiver: Option<Receiver>) -> bool {
+        match receiver {
+            Some(Receiver {
+                normal,
+                one_sided: true,
+            }) => {
+                let (min, max) = (self.bbox.min(), self.bbox.max());
+                let farthest = DVec3::select(normal.cmpge(DVec3::ZERO), max, min);
+                // The box's farthest corner along the normal against the point, with the
+                // two dot products' rounding (`gamma(3)` of their absolute sums each)
+                // allowed in the box's favour, so that rounding hides no light.
+                let slack =
+                    gamma(3) * (normal.abs().dot(farthest.abs()) + normal.abs().dot(p.abs()));
+                normal.dot(farthest) + slack >= normal.dot(p)
+            }
+            _ => true,
+        }
+    }
+
     /// [`Cluster::importance`]'s two cosines by the box, for lights of one normal: 1 from
     /// inside the box.
     #[inline]
-    fn box_cosines(&self, p: DVec3, normal: Option<DVec3>) -> (f64, f64) {
+    fn box_cosines(&self, p: DVec3, normal: Option<Receiver>) -> (f64, f64) {
         let (min, max) = (self.bbox.min(), self.bbox.max());
         let outside = (p - p.clamp(min, max)).length_squared();
         if outside <= 0.0 {
@@ -243,9 +266,15 @@ impl Cluster {
             behind
         };
         let least = (toward.max(0.0) * over_distance).min(1.0);
-        let seen = normal.map_or(1.0, |n| {
-            let (ahead, behind) = reach(n);
-            (ahead.max(behind) * over_distance).min(1.0)
+        let seen = normal.map_or(1.0, |r| {
+            let (ahead, behind) = reach(r.normal);
+            // One-sided: how far the box reaches in front of the surface alone.
+            let toward = if r.one_sided {
+                ahead
+            } else {
+                ahead.max(behind)
+            };
+            (toward.max(0.0) * over_distance).min(1.0)
         });
         (least, seen)
     }
@@ -253,7 +282,7 @@ impl Cluster {
     /// [`Cluster::importance`]'s two cosines by the box's bounding sphere (any direction
     /// from inside it), `from_centre` being `p` less the box's centre and `d2` its square.
     #[inline]
-    fn sphere_cosines(&self, from_centre: DVec3, d2: f64, normal: Option<DVec3>) -> (f64, f64) {
+    fn sphere_cosines(&self, from_centre: DVec3, d2: f64, normal: Option<Receiver>) -> (f64, f64) {
         let (min, max) = (self.bbox.min(), self.bbox.max());
         let radius2 = (0.5 * max - 0.5 * min).length_squared();
         let (cos_box, sin_box) = if d2 <= radius2 {
@@ -275,8 +304,14 @@ impl Cluster {
         let spread = (self.cos_spread, self.sin_spread);
         let (cos_x, sin_x) = minus_clamped(cos_normal, || sine(cos_normal), spread);
         let least = minus_clamped(cos_x, || sin_x, (cos_box, sin_box)).0;
-        let seen = normal.map_or(1.0, |n| {
-            let cos_in = toward_p.dot(n).abs();
+        let seen = normal.map_or(1.0, |r| {
+            // The cosine between the normal and the direction from `p` to the box's
+            // centre: signed for a one-sided surface, either side's otherwise.
+            let cos_in = if r.one_sided {
+                -toward_p.dot(r.normal)
+            } else {
+                toward_p.dot(r.normal).abs()
+            };
             minus_clamped(cos_in, || sine(cos_in), (cos_box, sin_box))
                 .0
                 .max(0.0)

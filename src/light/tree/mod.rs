@@ -37,7 +37,9 @@ use crate::{
 /// [`PdfHittable::sample_light`] from a [`ShadingContext`] with a normal weighs each
 /// cluster by the cosine at the surface too, on either side of it (as pbrt-v4 does): a
 /// light behind the surface is picked as a light in front of it would be, so a normal
-/// facing either way gives light. As a [`Hittable`], the tree is the list of its lights
+/// facing either way gives light. From a surface that only reflects
+/// ([`ShadingContext::reflecting`]), by the signed cosine: a light wholly behind it is
+/// never picked. As a [`Hittable`], the tree is the list of its lights
 /// (the closest hit; ties go to the earlier light).
 ///
 /// ```
@@ -390,9 +392,11 @@ impl<T: PdfHittable> PdfHittable for LightTree<T> {
 
     /// As [`sample_direction`](PdfHittable::sample_direction), with the context's normal:
     /// each choice weighs the cosine at the surface too, in absolute value (the normal's
-    /// side does not matter). `None` for an empty tree, a point that is not finite, or a
-    /// sampled direction along which no light's surface is found (see
-    /// [`LightSample::along`]); never because of where the lights lie.
+    /// side does not matter), or signed for a context that is `one_sided`. `None` for an
+    /// empty tree, a point that is not finite, or a sampled direction along which no
+    /// light's surface is found (see [`LightSample::along`]); never because of where the
+    /// lights lie, but for a one-sided context every light of which lies wholly behind it
+    /// (none can light it).
     fn sample_light(&self, at: &ShadingContext, u: DVec2) -> Option<LightSample> {
         self.sample_light_at(at, u)
     }
@@ -400,7 +404,7 @@ impl<T: PdfHittable> PdfHittable for LightTree<T> {
     /// As [`pdf_value`](PdfHittable::pdf_value), with the context's normal (see
     /// [`sample_light`](PdfHittable::sample_light)).
     fn light_pdf(&self, at: &ShadingContext, direction: DVec3) -> f64 {
-        self.density(at.point, at.unit_normal(), direction)
+        self.density(at.point, at.receiver(), direction)
     }
 
     fn light_hit(&self, ray: &Ray, ray_t: Interval) -> Option<(usize, HitRecord)> {
@@ -469,13 +473,15 @@ mod tests {
         .prop_filter("some power", |s| s.iter().any(|l| l.4 > 0.0))
     }
 
-    fn origin() -> impl Strategy<Value = (DVec3, Option<DVec3>)> {
+    /// A point, with or without a normal, receiving on one side or both.
+    fn origin() -> impl Strategy<Value = (DVec3, Option<DVec3>, bool)> {
         (
             prop_oneof![
                 prop::array::uniform3(-12.0f64..12.0).prop_map(DVec3::from),
                 prop::array::uniform3(-1e6f64..1e6).prop_map(DVec3::from),
             ],
             prop::option::of(prop::array::uniform3(-1.0f64..1.0).prop_map(DVec3::from)),
+            any::<bool>(),
         )
     }
 
@@ -486,7 +492,9 @@ mod tests {
         /// distribution over the lights of power (each in `[0, 1]`, summing to 1 within
         /// the rounding of the sum: each probability is a product of at most `depth`
         /// shares, each within an ulp, and the sum of `n` terms adds `n` more, with a
-        /// normal as without), and a stratified
+        /// normal as without; for a one-sided receiver, at most 1, its lights wholly behind
+        /// of probability 0: the walk may find every child of a node behind it, and end
+        /// on no light), and a stratified
         /// walk from the root lands on each light as often as that says: each light takes
         /// one interval of `x`, so `N` evenly spaced `x` land on it its probability times
         /// `N`, within one (and the rounding).
@@ -494,29 +502,45 @@ mod tests {
         fn the_walk_picks_each_light_with_its_probability(
             specs in specs(),
             offset in prop_oneof![Just(0.0), Just(1e9)],
-            (o, normal) in origin(),
+            (o, normal, one_sided) in origin(),
         ) {
             let tree = tree(&specs, offset);
             let origin = o + offset;
-            let p: Vec<f64> = (0..specs.len()).map(|i| tree.probability(&ShadingContext { point: origin, normal }, i)).collect();
+            let at = ShadingContext { point: origin, normal, one_sided };
+            let one_sided = one_sided && at.unit_normal().is_some();
+            let p: Vec<f64> = (0..specs.len()).map(|i| tree.probability(&at, i)).collect();
             let sum: f64 = p.iter().sum();
             let depth = 2 * specs.len();
             let rounding = (depth + specs.len()) as f64 * f64::EPSILON;
-            prop_assert!((sum - 1.0).abs() <= rounding, "sum {}", sum);
+            if one_sided {
+                prop_assert!(sum <= 1.0 + rounding, "sum {}", sum);
+            } else {
+                prop_assert!((sum - 1.0).abs() <= rounding, "sum {}", sum);
+            }
             for (i, &pi) in p.iter().enumerate() {
                 prop_assert!((0.0..=1.0).contains(&pi));
                 if specs[i].4 == 0.0 {
                     prop_assert_eq!(pi, 0.0);
                 }
+                // Wholly behind a one-sided receiver (every corner of its box by more
+                // than rounding): never picked.
+                if let (true, Some(n)) = (one_sided, at.unit_normal()) {
+                    let b = tree.lights()[i].bounding_box();
+                    let corners = (0..8).map(|k| DVec3::select(
+                        glam::BVec3::new(k & 1 != 0, k & 2 != 0, k & 4 != 0), b.max(), b.min()));
+                    if corners.into_iter().all(|c| n.dot(c - origin) < -1e-6 * (1.0 + origin.length())) {
+                        prop_assert_eq!(pi, 0.0, "light {} behind", i);
+                    }
+                }
             }
-            let at = ShadingContext { point: origin, normal };
-            let normal = at.unit_normal();
+            let receiver = at.receiver();
             const N: usize = 4096;
             let mut counts = alloc::vec![0usize; specs.len()];
             for k in 0..N {
-                let picked = tree.pick_at(origin, normal, (k as f64 + 0.5) / N as f64);
-                // The walk always ends on a light.
-                prop_assert!(picked.is_some());
+                let picked = tree.pick_at(origin, receiver, (k as f64 + 0.5) / N as f64);
+                // The walk always ends on a light (but where all are behind a one-sided
+                // receiver).
+                prop_assert!(picked.is_some() || one_sided);
                 if let Some((i, rest, _, probability)) = picked {
                     prop_assert!((0.0..1.0).contains(&rest));
                     // The walk's own product is the one found from the leaf up.
@@ -539,12 +563,12 @@ mod tests {
         #[test]
         fn the_density_is_the_walk_times_each_lights_density(
             specs in specs(),
-            (origin, normal) in origin(),
+            (origin, normal, one_sided) in origin(),
             u in prop::array::uniform2(0.0f64..1.0),
         ) {
             let tree = tree(&specs, 0.0);
-            let at = ShadingContext { point: origin, normal };
-            let d = tree.sample(origin, at.unit_normal(), DVec2::from(u));
+            let at = ShadingContext { point: origin, normal, one_sided };
+            let d = tree.sample(origin, at.receiver(), DVec2::from(u));
             prop_assert!(d.is_finite());
             let pdf = tree.light_pdf(&at, d);
             let loop_sum: f64 = (0..specs.len())
@@ -554,7 +578,7 @@ mod tests {
             prop_assert!((pdf - loop_sum).abs() <= rounding * loop_sum, "{} against {}", pdf, loop_sum);
             // A light that can be reached from here gets a density: the sampled direction
             // reaches the light it was drawn toward.
-            if let Some((i, ..)) = tree.pick_at(origin, normal.and_then(DVec3::try_normalize), u[0])
+            if let Some((i, ..)) = tree.pick_at(origin, at.receiver(), u[0])
                 && tree.lights()[i].pdf_value(origin, d) > 0.0
             {
                 prop_assert!(pdf > 0.0);
@@ -564,7 +588,7 @@ mod tests {
 
         /// As a `Hittable`, the tree answers as the loop over its lights.
         #[test]
-        fn hits_are_the_loops(specs in specs(), (origin, _) in origin(), d in prop::array::uniform3(-1.0f64..1.0)) {
+        fn hits_are_the_loops(specs in specs(), (origin, _, _) in origin(), d in prop::array::uniform3(-1.0f64..1.0)) {
             let tree = tree(&specs, 0.0);
             let ray = Ray::new(origin, DVec3::from(d));
             let tree_hit = tree.hit(&ray, Interval::FORWARD).map(|h| h.t);
@@ -578,7 +602,7 @@ mod tests {
 
         /// The importance is a bound: where it is 0 for a cluster of lights (one to three,
         /// merged as the build merges them), no point of any of them sends light toward
-        /// `p` from its emitting side onto either side of `p`'s surface (checked by brute
+        /// `p` from its emitting side onto `p`'s surface (either side, or its front where it receives on one side alone: checked by brute
         /// force on a grid of points of each panel, a margin of 1e-9 in the cosines for
         /// rounding). A light the walk could never pick must be one that cannot light `p`.
         #[test]
@@ -591,9 +615,11 @@ mod tests {
             ), 1..4),
             p in prop::array::uniform3(-6.0f64..6.0),
             normal in prop::option::of(prop::array::uniform3(-1.0f64..1.0)),
+            one_sided in any::<bool>(),
         ) {
             let p = DVec3::from(p);
             let normal = normal.and_then(|n| DVec3::from(n).try_normalize());
+            let receiver = ShadingContext { point: p, normal, one_sided }.receiver();
             let mut cluster = None;
             let mut panels = Vec::new();
             for &(kind, at, size, turn) in &lights {
@@ -611,7 +637,7 @@ mod tests {
             }
             let cluster = cluster.unwrap();
             // About one case in six: the others have nothing to check.
-            if cluster.importance(p, normal) > 0.0 {
+            if cluster.importance(p, receiver) > 0.0 {
                 return Ok(());
             }
             for (corner, u, v, emission) in panels {
@@ -624,7 +650,13 @@ mod tests {
                             Emission::OneSide(m) => m.normalize().dot(toward_p) > 1e-9,
                             Emission::BothSides(m) => m.normalize().dot(toward_p).abs() > 1e-9,
                         };
-                        let received = normal.is_none_or(|n| n.dot(toward_p).abs() > 1e-9);
+                        // From in front of a one-sided receiver (`-toward_p` from `p` to
+                        // the light), or either side.
+                        let received = normal.is_none_or(|n| if one_sided {
+                            -n.dot(toward_p) > 1e-9
+                        } else {
+                            n.dot(toward_p).abs() > 1e-9
+                        });
                         prop_assert!(!(emits && received), "{q} lights {p} though the importance is 0");
                     }
                 }

@@ -3,8 +3,9 @@
 
 use glam::{DVec2, DVec3};
 
-use super::cluster::share;
+use super::cluster::{Cluster, share};
 use super::{LightTree, MAX_DEPTH, NONE};
+use crate::sample::Receiver;
 use crate::{Interval, PdfHittable, Ray};
 use crate::{LightSample, ShadingContext};
 
@@ -37,7 +38,7 @@ impl<T: PdfHittable> LightTree<T> {
     /// ```
     #[must_use]
     pub fn pick(&self, at: &ShadingContext, u: f64) -> Option<crate::LightPick> {
-        let (origin, normal) = (at.point, at.unit_normal());
+        let (origin, normal) = (at.point, at.receiver());
         if !origin.is_finite() {
             return None;
         }
@@ -56,7 +57,7 @@ impl<T: PdfHittable> LightTree<T> {
     /// If `i >= self.lights().len()`.
     #[must_use]
     pub fn probability(&self, at: &ShadingContext, i: usize) -> f64 {
-        let (origin, normal) = (at.point, at.unit_normal());
+        let (origin, normal) = (at.point, at.receiver());
         if !origin.is_finite() {
             return 0.0;
         }
@@ -89,7 +90,7 @@ impl<T: PdfHittable> LightTree<T> {
     /// `[0, 1)` picks, with what is left of `x`, its leaf (`None` for an infinite light)
     /// and the probabilities of both choices. With no infinite light the first choice is
     /// the tree's, of probability 1, and `x` goes to the walk unchanged.
-    pub(super) fn choose(&self, origin: DVec3, normal: Option<DVec3>, x: f64) -> Option<Chosen> {
+    pub(super) fn choose(&self, origin: DVec3, normal: Option<Receiver>, x: f64) -> Option<Chosen> {
         let Slots { count, each, .. } = self.slots()?;
         let below_one = 1.0 - f64::EPSILON / 2.0;
         let scaled = if x > 0.0 { x.min(below_one) } else { 0.0 } * count as f64;
@@ -117,7 +118,7 @@ impl<T: PdfHittable> LightTree<T> {
     /// The probability that the walk reaches node `n`: the product of the choices on the
     /// way down to it, found on the way up and multiplied root first, as the walk down
     /// multiplies them (so that the two agree bit for bit).
-    pub(super) fn reaching(&self, mut n: usize, origin: DVec3, normal: Option<DVec3>) -> f64 {
+    pub(super) fn reaching(&self, mut n: usize, origin: DVec3, normal: Option<Receiver>) -> f64 {
         // One a level: at most 63 (see `MAX_DEPTH`).
         let mut choices = [0.0; MAX_DEPTH];
         let mut depth = 0;
@@ -137,20 +138,29 @@ impl<T: PdfHittable> LightTree<T> {
     /// where it can go to neither (see [`PdfHittable::sample_light`]).
     ///
     /// By importance; where both children's is 0 (every light faces away from the point,
-    /// or is too dim to count), by power.
+    /// or is too dim to count), by power, of the children not wholly behind a one-sided
+    /// receiver (none of whose lights can reach it: never picked).
     #[inline]
     pub(super) fn left_probability(
         &self,
         n: usize,
         origin: DVec3,
-        normal: Option<DVec3>,
+        normal: Option<Receiver>,
     ) -> Option<f64> {
         let (a, b) = (
             &self.nodes[n + 1].cluster,
             &self.nodes[self.nodes[n].index as usize].cluster,
         );
-        share(a.importance(origin, normal), b.importance(origin, normal))
-            .or_else(|| share(a.power, b.power))
+        share(a.importance(origin, normal), b.importance(origin, normal)).or_else(|| {
+            let power = |c: &Cluster| {
+                if c.in_view(origin, normal) {
+                    c.power
+                } else {
+                    0.0
+                }
+            };
+            share(power(a), power(b))
+        })
     }
 
     /// The walk from the root: the light `x` in `[0, 1)` picks, what is left of `x`,
@@ -160,7 +170,7 @@ impl<T: PdfHittable> LightTree<T> {
     pub(super) fn pick_at(
         &self,
         origin: DVec3,
-        normal: Option<DVec3>,
+        normal: Option<Receiver>,
         x: f64,
     ) -> Option<(usize, f64, usize, f64)> {
         if self.nodes.is_empty() {
@@ -187,7 +197,7 @@ impl<T: PdfHittable> LightTree<T> {
         Some((self.nodes[n].index as usize, x, n, p))
     }
 
-    pub(super) fn sample(&self, origin: DVec3, normal: Option<DVec3>, u: DVec2) -> DVec3 {
+    pub(super) fn sample(&self, origin: DVec3, normal: Option<Receiver>, u: DVec2) -> DVec3 {
         if !origin.is_finite() {
             return DVec3::ZERO;
         }
@@ -200,7 +210,7 @@ impl<T: PdfHittable> LightTree<T> {
     /// density, in which the picked light's probability is the walk's own (the same
     /// product, bit for bit, that the density finds by walking up from its leaf).
     pub(super) fn sample_light_at(&self, at: &ShadingContext, u: DVec2) -> Option<LightSample> {
-        let (origin, normal) = (at.point, at.unit_normal());
+        let (origin, normal) = (at.point, at.receiver());
         if !origin.is_finite() {
             return None;
         }
@@ -212,7 +222,7 @@ impl<T: PdfHittable> LightTree<T> {
         })
     }
 
-    pub(super) fn density(&self, origin: DVec3, normal: Option<DVec3>, direction: DVec3) -> f64 {
+    pub(super) fn density(&self, origin: DVec3, normal: Option<Receiver>, direction: DVec3) -> f64 {
         self.density_with(origin, normal, direction, None)
     }
 
@@ -221,7 +231,7 @@ impl<T: PdfHittable> LightTree<T> {
     fn density_with(
         &self,
         origin: DVec3,
-        normal: Option<DVec3>,
+        normal: Option<Receiver>,
         direction: DVec3,
         known: Option<(usize, f64)>,
     ) -> f64 {
