@@ -38,14 +38,6 @@ pub struct ShadingContext {
     pub one_sided: bool,
 }
 
-/// A [`ShadingContext`]'s surface as the light tree weighs it: its unit normal, and
-/// whether only the side it points to receives.
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct Receiver {
-    pub(crate) normal: DVec3,
-    pub(crate) one_sided: bool,
-}
-
 impl ShadingContext {
     /// A point in space (in a medium, say): lights are sampled from every side.
     #[inline]
@@ -106,15 +98,6 @@ impl ShadingContext {
     #[inline]
     pub(crate) fn unit_normal(&self) -> Option<DVec3> {
         self.normal.and_then(direction_of)
-    }
-
-    /// The receiving surface, where there is one.
-    #[inline]
-    pub(crate) fn receiver(&self) -> Option<Receiver> {
-        self.unit_normal().map(|normal| Receiver {
-            normal,
-            one_sided: self.one_sided,
-        })
     }
 }
 

@@ -24,10 +24,20 @@ pub enum Hall {
     /// Panels hanging from the ceiling, turned to within 10 degrees of upright: seen
     /// nearly edge on from the floor.
     EdgeOn,
+    /// Ten rooms of 10 x 10 along the hall, walls between them, lamps on every room's four
+    /// walls facing into it (an inner wall carries lamps on both faces): seen from points
+    /// on the walls ([`points`]), where the lamps of the rooms beyond lie behind the wall.
+    Walls,
 }
 
 impl Hall {
-    pub const ALL: [Hall; 4] = [Hall::Ceiling, Hall::Sizes, Hall::Room, Hall::EdgeOn];
+    pub const ALL: [Hall; 5] = [
+        Hall::Ceiling,
+        Hall::Sizes,
+        Hall::Room,
+        Hall::EdgeOn,
+        Hall::Walls,
+    ];
 
     pub fn name(self) -> &'static str {
         match self {
@@ -35,6 +45,7 @@ impl Hall {
             Hall::Sizes => "sizes",
             Hall::Room => "room",
             Hall::EdgeOn => "edge on",
+            Hall::Walls => "walls",
         }
     }
 }
@@ -188,8 +199,59 @@ pub fn lamps(kind: Hall, n: usize, scale: f64, seed: u64) -> Lamps {
                 lamps.push(at * scale, u * s * scale, v * s * scale, 1.0);
             }
         }
+        Hall::Walls => {
+            // Each wall of each room a row of lamps 0.5 in from its ends, in a band from 1
+            // to 3 high; `u x v` faces into the room.
+            let per_wall = (n / (4 * ROOMS)).max(1);
+            let s = 0.3 * (9.0 / per_wall as f64).min(1.0);
+            for r in 0..ROOMS {
+                let (x0, x1) = (ROOM * r as f64, ROOM * (r + 1) as f64);
+                for wall in 0..4 {
+                    for k in 0..per_wall {
+                        let along = 0.5 + 9.0 * (k as f64 + 0.5) / per_wall as f64;
+                        let y = 1.0 + 2.0 * rng.next_f64();
+                        let (at, u) = match wall {
+                            0 => (DVec3::new(x0 + along, y, 0.0), DVec3::X),
+                            1 => (DVec3::new(x1, y, along), DVec3::Z),
+                            2 => (DVec3::new(x0 + along, y, WIDTH), DVec3::NEG_X),
+                            _ => (DVec3::new(x0, y, along), DVec3::NEG_Z),
+                        };
+                        lamps.push(at * scale, u * s * scale, DVec3::Y * s * scale, 1.0);
+                    }
+                }
+            }
+        }
     }
     lamps
+}
+
+/// The rooms of [`Hall::Walls`], and their side.
+const ROOMS: usize = 10;
+const ROOM: f64 = 10.0;
+
+/// `n` shading points of a hall at `scale`: on its floor ([`floor_points`]), or, for
+/// [`Hall::Walls`], on its rooms' walls, facing into their room, 0.5 in from a wall's
+/// ends and from the floor and ceiling; the same for every seed.
+pub fn points(hall: Hall, n: usize, scale: f64, seed: u64) -> Vec<ShadingContext> {
+    if hall != Hall::Walls {
+        return floor_points(n, scale, seed);
+    }
+    let mut rng = SplitMix::new(seed ^ 0x3a11);
+    (0..n)
+        .map(|_| {
+            let room = ((rng.next_f64() * ROOMS as f64) as usize).min(ROOMS - 1);
+            let (x0, x1) = (ROOM * room as f64, ROOM * (room + 1) as f64);
+            let along = 0.5 + 9.0 * rng.next_f64();
+            let y = 0.5 + (HEIGHT - 1.0) * rng.next_f64();
+            let (p, normal) = match (rng.next_f64() * 4.0) as usize {
+                0 => (DVec3::new(x0 + along, y, 0.0), DVec3::Z),
+                1 => (DVec3::new(x1, y, along), DVec3::NEG_X),
+                2 => (DVec3::new(x0 + along, y, WIDTH), DVec3::NEG_Z),
+                _ => (DVec3::new(x0, y, along), DVec3::X),
+            };
+            ShadingContext::on_surface(p * scale, normal)
+        })
+        .collect()
 }
 
 /// `n` shading points on the floor of a hall at `scale` (facing up), away from the walls
@@ -209,13 +271,15 @@ pub fn floor_points(n: usize, scale: f64, seed: u64) -> Vec<ShadingContext> {
 /// Lambert's formula for a polygon of uniform radiance: `L / 2` times the sum over its
 /// edges of the angle each subtends times the cosine between the receiver's normal and the
 /// normal of the plane through the point and the edge. Every lamp of [`lamps`] lies
-/// wholly above every floor point's horizon, where the formula holds unclipped.
+/// wholly above every [`points`] point's horizon, or (on the walls) wholly on or below it,
+/// where it sends nothing: the formula holds unclipped.
 pub fn irradiance(lamps: &Lamps, i: usize, at: &ShadingContext) -> f64 {
-    let (p, n) = (at.point, at.normal.expect("a floor point"));
+    let (p, n) = (at.point, at.normal.expect("a point on a surface"));
     let corners = lamps.corners[i];
     let q = corners[0];
-    // One-sided: nothing where the point lies behind the lamp.
-    if (p - q).dot(lamps.normals[i]) <= 0.0 {
+    // One-sided: nothing where the point lies behind the lamp, or the lamp behind (or in
+    // the plane of) the receiver.
+    if (p - q).dot(lamps.normals[i]) <= 0.0 || corners.iter().all(|c| n.dot(*c - p) <= 0.0) {
         return 0.0;
     }
     let mut sum = 0.0;

@@ -33,21 +33,32 @@ fn chosen(args: &Args) -> impl Iterator<Item = Hall> + '_ {
     })
 }
 
-/// One row per hall and count: the choice's variance of the tree at every scale, then
-/// pbrt's at every scale.
+/// `at` as a surface that only reflects: light from its normal's side alone.
+fn reflecting(at: &ShadingContext) -> ShadingContext {
+    ShadingContext {
+        one_sided: true,
+        ..*at
+    }
+}
+
+/// One row per hall and count: the choice's variance of the tree at every scale (from
+/// receivers of either side, then of one side), then pbrt's at every scale.
 pub(super) fn variance_rows(args: &Args) -> Vec<String> {
     let mut rows = Vec::new();
     for hall in chosen(args) {
         for n in COUNTS {
-            let mut tree_row = Vec::new();
-            let mut pbrt_row = Vec::new();
+            let (mut tree_row, mut one_sided_row, mut pbrt_row) =
+                (Vec::new(), Vec::new(), Vec::new());
             for scale in SCALES {
                 let lamps = halls::lamps(hall, n, scale, args.seed);
-                let points = halls::floor_points(VARIANCE_POINTS, scale, args.seed);
+                let points = halls::points(hall, VARIANCE_POINTS, scale, args.seed);
                 let t = lamps.tree();
                 let b = lamps.pbrt();
                 tree_row.push(mean_choice_variance(&lamps, &points, |at, i| {
                     t.probability(at, i)
+                }));
+                one_sided_row.push(mean_choice_variance(&lamps, &points, |at, i| {
+                    t.probability(&reflecting(at), i)
                 }));
                 pbrt_row.push(mean_choice_variance(&lamps, &points, |at, i| {
                     b.probability(at, i)
@@ -63,6 +74,11 @@ pub(super) fn variance_rows(args: &Args) -> Vec<String> {
                 "| {} | {n} | light tree | {} |",
                 hall.name(),
                 cells(&tree_row)
+            ));
+            rows.push(format!(
+                "| {} | {n} | light tree, one-sided receivers | {} |",
+                hall.name(),
+                cells(&one_sided_row)
             ));
             rows.push(format!(
                 "| {} | {n} | pbrt-v4 BVH | {} |",
@@ -137,7 +153,7 @@ pub(super) fn estimate_rows(args: &Args) -> Vec<String> {
     for hall in chosen(args) {
         for n in COUNTS {
             let lamps = halls::lamps(hall, n, 1.0, args.seed);
-            let points = halls::floor_points(ESTIMATE_POINTS, 1.0, args.seed);
+            let points = halls::points(hall, ESTIMATE_POINTS, 1.0, args.seed);
             let exact: Vec<f64> = points
                 .iter()
                 .map(|at| {
@@ -150,7 +166,7 @@ pub(super) fn estimate_rows(args: &Args) -> Vec<String> {
             let b = lamps.pbrt();
             let mixture = Mixture::new(lamps.quads.clone(), &lamps.powers).expect("powers");
             for spp in SPP {
-                let mut results: [Vec<(f64, f64)>; 3] = Default::default();
+                let mut results: [Vec<(f64, f64)>; 4] = Default::default();
                 for run in 0..args.runs {
                     let seed = args.seed.wrapping_add(run as u64);
                     results[0].push(error_and_time(
@@ -177,6 +193,17 @@ pub(super) fn estimate_rows(args: &Args) -> Vec<String> {
                         seed,
                         |_, u| mixture.pick(u).map(|p| (p.light, p.probability, p.rest)),
                     ));
+                    results[3].push(error_and_time(
+                        &lamps,
+                        &points,
+                        &exact,
+                        spp,
+                        seed,
+                        |at, u| {
+                            t.pick(&reflecting(at), u)
+                                .map(|p| (p.light, p.probability, p.rest))
+                        },
+                    ));
                 }
                 let summary: Vec<(f64, f64)> = results
                     .iter()
@@ -188,10 +215,14 @@ pub(super) fn estimate_rows(args: &Args) -> Vec<String> {
                     })
                     .collect();
                 let anchor = summary[1].0 * summary[1].1;
-                for (name, (mse, secs)) in
-                    ["light tree, pick", "pbrt-v4 BVH", "power mixture, pick"]
-                        .iter()
-                        .zip(&summary)
+                for (name, (mse, secs)) in [
+                    "light tree, pick",
+                    "pbrt-v4 BVH",
+                    "power mixture, pick",
+                    "light tree, one-sided, pick",
+                ]
+                .iter()
+                .zip(&summary)
                 {
                     rows.push(format!(
                         "| {} | {n} | {spp} | {name} | {mse:.4} | {:.1} | {:.3} | {:.2}x |",
@@ -215,13 +246,13 @@ pub(super) fn print(args: &Args) {
         args.seed
     );
     println!(
-        "Variance of the choice of lamp (`sum f_i^2 / p_i / F^2 - 1`, mean over {VARIANCE_POINTS} floor points), every length times the scale:\n"
+        "Variance of the choice of lamp (`sum f_i^2 / p_i / F^2 - 1`, mean over {VARIANCE_POINTS} floor points, wall points for the walls hall), every length times the scale:\n"
     );
     println!("| hall | lamps | sampler | 0.01 | 0.1 | 1 | 10 | 100 |");
     println!("|---|---:|---|---:|---:|---:|---:|---:|");
     variance_rows(args).iter().for_each(|r| println!("{r}"));
     println!(
-        "\nNext-event estimation of the irradiance at {ESTIMATE_POINTS} floor points (scale 1, no occluders): relative MSE (mean of {} runs), ms (median), their product, and the product over pbrt-v4's:\n",
+        "\nNext-event estimation of the irradiance at {ESTIMATE_POINTS} floor points (on the walls for the walls hall; scale 1, no occluders): relative MSE (mean of {} runs), ms (median), their product, and the product over pbrt-v4's:\n",
         args.runs
     );
     println!("| hall | lamps | spp | sampler | rel. MSE | ms | MSE x ms | vs pbrt-v4 |");

@@ -8,7 +8,6 @@ use glam::DVec3;
 
 use super::Emission;
 use crate::math::{atan2, gamma, length, sin_cos, sqrt};
-use crate::sample::Receiver;
 use crate::sample::direction_of;
 use crate::{Aabb, GeometryError};
 
@@ -196,17 +195,18 @@ impl Cluster {
     /// power at a point `d` away, so the clamp is what the cluster can deliver at all. It
     /// scales with the square of the unit of length, as `d^2` does, so that the choices do
     /// not depend on the unit (pbrt-v4 clamps `d^2` at half the box's diagonal, a length).
-    pub(super) fn importance(&self, p: DVec3, normal: Option<Receiver>) -> f64 {
-        if self.power == 0.0 {
+    /// `ONE_SIDED`: the surface receives on its normal's side alone (its cosine signed).
+    pub(super) fn importance<const ONE_SIDED: bool>(&self, p: DVec3, normal: Option<DVec3>) -> f64 {
+        if self.power == 0.0 || (ONE_SIDED && !self.in_front(p, normal)) {
             return 0.0;
         }
         let (min, max) = (self.bbox.min(), self.bbox.max());
         let from_centre = p - (0.5 * min + 0.5 * max);
         let d2 = from_centre.length_squared();
-        let (least, seen) = if self.spread == 0.0 {
-            self.box_cosines(p, normal)
+        let (least, seen, d2) = if self.spread == 0.0 {
+            self.box_cosines::<ONE_SIDED>(p, normal, d2)
         } else {
-            self.sphere_cosines(from_centre, d2, normal)
+            self.sphere_cosines::<ONE_SIDED>(from_centre, d2, normal)
         };
         // Diffuse emitters send nothing at 90 degrees from their normal and beyond.
         if least <= 0.0 {
@@ -216,36 +216,39 @@ impl Cluster {
         if importance.is_nan() { 0.0 } else { importance }
     }
 
-    /// Whether any point of the cluster's box lies in front of `receiver` (on its lit
-    /// side, or on its plane) where it receives on one side alone; always for one that
-    /// receives on both, and with none.
-    pub(super) fn in_view(&self, p: DVec3, receiver: Option<Receiver>) -> bool {
-        match receiver {
-            Some(Receiver {
-                normal,
-                one_sided: true,
-            }) => {
-                let (min, max) = (self.bbox.min(), self.bbox.max());
-                let farthest = DVec3::select(normal.cmpge(DVec3::ZERO), max, min);
-                // The box's farthest corner along the normal against the point, with the
-                // two dot products' rounding (`gamma(3)` of their absolute sums each)
-                // allowed in the box's favour, so that rounding hides no light.
-                let slack =
-                    gamma(3) * (normal.abs().dot(farthest.abs()) + normal.abs().dot(p.abs()));
-                normal.dot(farthest) + slack >= normal.dot(p)
-            }
-            _ => true,
-        }
+    /// Whether any point of the cluster's box lies in front of a surface at `p` of normal
+    /// `normal` (on its side, or on its plane), with no normal always: the cosine bounds
+    /// by the bounding sphere reach past a box wholly behind, which this keeps out.
+    #[inline]
+    fn in_front(&self, p: DVec3, normal: Option<DVec3>) -> bool {
+        let Some(normal) = normal else { return true };
+        let (min, max) = (self.bbox.min(), self.bbox.max());
+        let farthest = DVec3::select(normal.cmpge(DVec3::ZERO), max, min);
+        // The box's farthest corner along the normal against the point, with the two dot
+        // products' rounding (`gamma(3)` of their absolute sums each) allowed in the box's
+        // favour, so that rounding hides no light.
+        let slack = gamma(3) * (normal.abs().dot(farthest.abs()) + normal.abs().dot(p.abs()));
+        normal.dot(farthest) + slack >= normal.dot(p)
     }
 
-    /// [`Cluster::importance`]'s two cosines by the box, for lights of one normal: 1 from
-    /// inside the box.
+    /// [`Cluster::importance`]'s two cosines by the box, for lights of one normal, and the
+    /// squared distance `d2` (to the box's centre) it divides by: from inside the box, both
+    /// cosines 1 and the squared distance at least the squared half-diagonal. There the
+    /// lights may lie anywhere in the box, and the distance to its centre says nothing of
+    /// theirs: the half-diagonal stands for it (the mean of `1 / d^2` over a ball about `p`
+    /// is `3 / r^2`, of its order), so that a point amid a cluster (a wall's receiver among
+    /// the wall's own lamps, which send it nothing) does not take its sibling's share.
     #[inline]
-    fn box_cosines(&self, p: DVec3, normal: Option<Receiver>) -> (f64, f64) {
+    fn box_cosines<const ONE_SIDED: bool>(
+        &self,
+        p: DVec3,
+        normal: Option<DVec3>,
+        d2: f64,
+    ) -> (f64, f64, f64) {
         let (min, max) = (self.bbox.min(), self.bbox.max());
         let outside = (p - p.clamp(min, max)).length_squared();
         if outside <= 0.0 {
-            return (1.0, 1.0);
+            return (1.0, 1.0, d2.max((0.5 * max - 0.5 * min).length_squared()));
         }
         let over_distance = 1.0 / sqrt(outside);
         // How far the box reaches from `p` along `v`, and against it.
@@ -266,25 +269,29 @@ impl Cluster {
             behind
         };
         let least = (toward.max(0.0) * over_distance).min(1.0);
-        let seen = normal.map_or(1.0, |r| {
-            let (ahead, behind) = reach(r.normal);
+        let seen = normal.map_or(1.0, |n| {
+            let (ahead, behind) = reach(n);
             // One-sided: how far the box reaches in front of the surface alone.
-            let toward = if r.one_sided {
-                ahead
-            } else {
-                ahead.max(behind)
-            };
+            let toward = if ONE_SIDED { ahead } else { ahead.max(behind) };
             (toward.max(0.0) * over_distance).min(1.0)
         });
-        (least, seen)
+        (least, seen, d2)
     }
 
     /// [`Cluster::importance`]'s two cosines by the box's bounding sphere (any direction
-    /// from inside it), `from_centre` being `p` less the box's centre and `d2` its square.
+    /// from inside it), `from_centre` being `p` less the box's centre and `d2` its square,
+    /// and the squared distance to divide by: `d2`, or from inside the box at least the
+    /// squared half-diagonal, as [`Cluster::box_cosines`] says.
     #[inline]
-    fn sphere_cosines(&self, from_centre: DVec3, d2: f64, normal: Option<Receiver>) -> (f64, f64) {
+    fn sphere_cosines<const ONE_SIDED: bool>(
+        &self,
+        from_centre: DVec3,
+        d2: f64,
+        normal: Option<DVec3>,
+    ) -> (f64, f64, f64) {
         let (min, max) = (self.bbox.min(), self.bbox.max());
-        let radius2 = (0.5 * max - 0.5 * min).length_squared();
+        let half = 0.5 * max - 0.5 * min;
+        let radius2 = half.length_squared();
         let (cos_box, sin_box) = if d2 <= radius2 {
             (-1.0, 0.0)
         } else {
@@ -304,19 +311,21 @@ impl Cluster {
         let spread = (self.cos_spread, self.sin_spread);
         let (cos_x, sin_x) = minus_clamped(cos_normal, || sine(cos_normal), spread);
         let least = minus_clamped(cos_x, || sin_x, (cos_box, sin_box)).0;
-        let seen = normal.map_or(1.0, |r| {
+        let seen = normal.map_or(1.0, |n| {
             // The cosine between the normal and the direction from `p` to the box's
             // centre: signed for a one-sided surface, either side's otherwise.
-            let cos_in = if r.one_sided {
-                -toward_p.dot(r.normal)
+            let cos_in = if ONE_SIDED {
+                -toward_p.dot(n)
             } else {
-                toward_p.dot(r.normal).abs()
+                toward_p.dot(n).abs()
             };
             minus_clamped(cos_in, || sine(cos_in), (cos_box, sin_box))
                 .0
                 .max(0.0)
         });
-        (least, seen)
+        // Inside the box, as for the box's bound (see `box_cosines`).
+        let inside = from_centre.abs().cmple(half).all();
+        (least, seen, if inside { d2.max(radius2) } else { d2 })
     }
 }
 

@@ -379,7 +379,7 @@ impl<T: PdfHittable> PdfHittable for LightTree<T> {
     /// picks each (from `origin`, with no normal) times its density; 0 for an empty tree
     /// or an invalid direction.
     fn pdf_value(&self, origin: DVec3, direction: DVec3) -> f64 {
-        self.density(origin, None, direction)
+        self.density(origin, None, false, direction)
     }
 
     /// `u.x` makes the walk's choices (each rescaled to `[0, 1)` within the choice made)
@@ -387,7 +387,7 @@ impl<T: PdfHittable> PdfHittable for LightTree<T> {
     /// tree or an origin that is not finite (and, [`sample_light`](PdfHittable::sample_light) with a normal,
     /// where the walk picks no light).
     fn sample_direction(&self, origin: DVec3, u: DVec2) -> DVec3 {
-        self.sample(origin, None, u)
+        self.sample(origin, None, false, u)
     }
 
     /// As [`sample_direction`](PdfHittable::sample_direction), with the context's normal:
@@ -404,7 +404,13 @@ impl<T: PdfHittable> PdfHittable for LightTree<T> {
     /// As [`pdf_value`](PdfHittable::pdf_value), with the context's normal (see
     /// [`sample_light`](PdfHittable::sample_light)).
     fn light_pdf(&self, at: &ShadingContext, direction: DVec3) -> f64 {
-        self.density(at.point, at.receiver(), direction)
+        let normal = at.unit_normal();
+        self.density(
+            at.point,
+            normal,
+            at.one_sided && normal.is_some(),
+            direction,
+        )
     }
 
     fn light_hit(&self, ray: &Ray, ray_t: Interval) -> Option<(usize, HitRecord)> {
@@ -473,6 +479,17 @@ mod tests {
         .prop_filter("some power", |s| s.iter().any(|l| l.4 > 0.0))
     }
 
+    /// The walk from the root for `x`, from `at` (one-sided where it says so and has a
+    /// normal).
+    fn pick_at<T: PdfHittable>(
+        tree: &LightTree<T>,
+        at: &ShadingContext,
+        x: f64,
+    ) -> Option<(usize, f64, usize, f64)> {
+        let n = at.unit_normal();
+        tree.pick_at(at.point, n, at.one_sided && n.is_some(), x)
+    }
+
     /// A point, with or without a normal, receiving on one side or both.
     fn origin() -> impl Strategy<Value = (DVec3, Option<DVec3>, bool)> {
         (
@@ -533,11 +550,10 @@ mod tests {
                     }
                 }
             }
-            let receiver = at.receiver();
             const N: usize = 4096;
             let mut counts = alloc::vec![0usize; specs.len()];
             for k in 0..N {
-                let picked = tree.pick_at(origin, receiver, (k as f64 + 0.5) / N as f64);
+                let picked = pick_at(&tree, &at, (k as f64 + 0.5) / N as f64);
                 // The walk always ends on a light (but where all are behind a one-sided
                 // receiver).
                 prop_assert!(picked.is_some() || one_sided);
@@ -568,7 +584,8 @@ mod tests {
         ) {
             let tree = tree(&specs, 0.0);
             let at = ShadingContext { point: origin, normal, one_sided };
-            let d = tree.sample(origin, at.receiver(), DVec2::from(u));
+            let (n, u) = (at.unit_normal(), DVec2::from(u));
+            let d = tree.sample(origin, n, one_sided && n.is_some(), u);
             prop_assert!(d.is_finite());
             let pdf = tree.light_pdf(&at, d);
             let loop_sum: f64 = (0..specs.len())
@@ -578,7 +595,7 @@ mod tests {
             prop_assert!((pdf - loop_sum).abs() <= rounding * loop_sum, "{} against {}", pdf, loop_sum);
             // A light that can be reached from here gets a density: the sampled direction
             // reaches the light it was drawn toward.
-            if let Some((i, ..)) = tree.pick_at(origin, at.receiver(), u[0])
+            if let Some((i, ..)) = pick_at(&tree, &at, u.x)
                 && tree.lights()[i].pdf_value(origin, d) > 0.0
             {
                 prop_assert!(pdf > 0.0);
@@ -619,7 +636,7 @@ mod tests {
         ) {
             let p = DVec3::from(p);
             let normal = normal.and_then(|n| DVec3::from(n).try_normalize());
-            let receiver = ShadingContext { point: p, normal, one_sided }.receiver();
+
             let mut cluster = None;
             let mut panels = Vec::new();
             for &(kind, at, size, turn) in &lights {
@@ -637,7 +654,12 @@ mod tests {
             }
             let cluster = cluster.unwrap();
             // About one case in six: the others have nothing to check.
-            if cluster.importance(p, receiver) > 0.0 {
+            let importance = if one_sided {
+                cluster.importance::<true>(p, normal)
+            } else {
+                cluster.importance::<false>(p, normal)
+            };
+            if importance > 0.0 {
                 return Ok(());
             }
             for (corner, u, v, emission) in panels {

@@ -3,9 +3,8 @@
 
 use glam::{DVec2, DVec3};
 
-use super::cluster::{Cluster, share};
+use super::cluster::share;
 use super::{LightTree, MAX_DEPTH, NONE};
-use crate::sample::Receiver;
 use crate::{Interval, PdfHittable, Ray};
 use crate::{LightSample, ShadingContext};
 
@@ -38,11 +37,12 @@ impl<T: PdfHittable> LightTree<T> {
     /// ```
     #[must_use]
     pub fn pick(&self, at: &ShadingContext, u: f64) -> Option<crate::LightPick> {
-        let (origin, normal) = (at.point, at.receiver());
+        let (origin, normal) = (at.point, at.unit_normal());
         if !origin.is_finite() {
             return None;
         }
-        let chosen = self.choose(origin, normal, u)?;
+        let one_sided = at.one_sided && normal.is_some();
+        let chosen = self.choose(origin, normal, one_sided, u)?;
         Some(crate::LightPick {
             light: chosen.light,
             probability: chosen.probability(),
@@ -57,7 +57,7 @@ impl<T: PdfHittable> LightTree<T> {
     /// If `i >= self.lights().len()`.
     #[must_use]
     pub fn probability(&self, at: &ShadingContext, i: usize) -> f64 {
-        let (origin, normal) = (at.point, at.receiver());
+        let (origin, normal) = (at.point, at.unit_normal());
         if !origin.is_finite() {
             return 0.0;
         }
@@ -68,7 +68,10 @@ impl<T: PdfHittable> LightTree<T> {
             NONE if self.infinite.contains(&(i as u32)) => slots.each,
             NONE => 0.0,
             _ if !slots.tree => 0.0,
-            leaf => self.reaching(leaf as usize, origin, normal) * slots.each,
+            leaf => {
+                let one_sided = at.one_sided && normal.is_some();
+                self.reaching(leaf as usize, origin, normal, one_sided) * slots.each
+            }
         }
     }
 
@@ -90,7 +93,13 @@ impl<T: PdfHittable> LightTree<T> {
     /// `[0, 1)` picks, with what is left of `x`, its leaf (`None` for an infinite light)
     /// and the probabilities of both choices. With no infinite light the first choice is
     /// the tree's, of probability 1, and `x` goes to the walk unchanged.
-    pub(super) fn choose(&self, origin: DVec3, normal: Option<Receiver>, x: f64) -> Option<Chosen> {
+    pub(super) fn choose(
+        &self,
+        origin: DVec3,
+        normal: Option<DVec3>,
+        one_sided: bool,
+        x: f64,
+    ) -> Option<Chosen> {
         let Slots { count, each, .. } = self.slots()?;
         let below_one = 1.0 - f64::EPSILON / 2.0;
         let scaled = if x > 0.0 { x.min(below_one) } else { 0.0 } * count as f64;
@@ -105,7 +114,7 @@ impl<T: PdfHittable> LightTree<T> {
                 slot: each,
             });
         }
-        let (light, rest, leaf, walk) = self.pick_at(origin, normal, rest)?;
+        let (light, rest, leaf, walk) = self.pick_at(origin, normal, one_sided, rest)?;
         Some(Chosen {
             light,
             rest,
@@ -118,13 +127,22 @@ impl<T: PdfHittable> LightTree<T> {
     /// The probability that the walk reaches node `n`: the product of the choices on the
     /// way down to it, found on the way up and multiplied root first, as the walk down
     /// multiplies them (so that the two agree bit for bit).
-    pub(super) fn reaching(&self, mut n: usize, origin: DVec3, normal: Option<Receiver>) -> f64 {
+    pub(super) fn reaching(
+        &self,
+        mut n: usize,
+        origin: DVec3,
+        normal: Option<DVec3>,
+        one_sided: bool,
+    ) -> f64 {
+        if self.behind(origin, normal, one_sided) {
+            return 0.0;
+        }
         // One a level: at most 63 (see `MAX_DEPTH`).
         let mut choices = [0.0; MAX_DEPTH];
         let mut depth = 0;
         while let Some(&parent) = self.parents.get(n).filter(|&&p| p != NONE) {
             let parent = parent as usize;
-            let Some(left) = self.left_probability(parent, origin, normal) else {
+            let Some(left) = self.left_probability(parent, origin, normal, one_sided) else {
                 return 0.0;
             };
             choices[depth] = if n == parent + 1 { left } else { 1.0 - left };
@@ -134,32 +152,56 @@ impl<T: PdfHittable> LightTree<T> {
         choices[..depth].iter().rev().fold(1.0, |p, &c| p * c)
     }
 
+    /// Whether a tree of one light (no choice to weigh it) holds nothing that can light a
+    /// one-sided surface: its light behind it or facing away (importance 0). A tree of
+    /// more finds that out at its root's children.
+    #[inline]
+    fn behind(&self, origin: DVec3, normal: Option<DVec3>, one_sided: bool) -> bool {
+        one_sided
+            && self.nodes.first().is_some_and(|root| {
+                root.leaf && root.cluster.importance::<true>(origin, normal) == 0.0
+            })
+    }
+
     /// The probability that the walk at inner node `n` goes to its first child; `None`
     /// where it can go to neither (see [`PdfHittable::sample_light`]).
     ///
     /// By importance; where both children's is 0 (every light faces away from the point,
-    /// or is too dim to count), by power, of the children not wholly behind a one-sided
-    /// receiver (none of whose lights can reach it: never picked).
+    /// or is too dim to count), by power, but from a one-sided surface, which nothing
+    /// there can light (its lights all behind it or facing away): `None`.
     #[inline]
     pub(super) fn left_probability(
         &self,
         n: usize,
         origin: DVec3,
-        normal: Option<Receiver>,
+        normal: Option<DVec3>,
+        one_sided: bool,
     ) -> Option<f64> {
         let (a, b) = (
             &self.nodes[n + 1].cluster,
             &self.nodes[self.nodes[n].index as usize].cluster,
         );
-        share(a.importance(origin, normal), b.importance(origin, normal)).or_else(|| {
-            let power = |c: &Cluster| {
-                if c.in_view(origin, normal) {
-                    c.power
-                } else {
-                    0.0
-                }
-            };
-            share(power(a), power(b))
+        // Each side's importance its own code: the either-side one knows its cosine is
+        // never negative.
+        let (ia, ib) = if one_sided {
+            (
+                a.importance::<true>(origin, normal),
+                b.importance::<true>(origin, normal),
+            )
+        } else {
+            (
+                a.importance::<false>(origin, normal),
+                b.importance::<false>(origin, normal),
+            )
+        };
+        // From a one-sided surface, importance 0 is a bound (nothing the clusters hold can
+        // light it: behind it, or facing away): no light, as pbrt-v4's sampler answers.
+        share(ia, ib).or_else(|| {
+            if one_sided {
+                None
+            } else {
+                share(a.power, b.power)
+            }
         })
     }
 
@@ -170,10 +212,11 @@ impl<T: PdfHittable> LightTree<T> {
     pub(super) fn pick_at(
         &self,
         origin: DVec3,
-        normal: Option<Receiver>,
+        normal: Option<DVec3>,
+        one_sided: bool,
         x: f64,
     ) -> Option<(usize, f64, usize, f64)> {
-        if self.nodes.is_empty() {
+        if self.nodes.is_empty() || self.behind(origin, normal, one_sided) {
             return None;
         }
         // Into [0, 1) (NaN to 0); each choice rescales what is left of it to [0, 1).
@@ -182,7 +225,7 @@ impl<T: PdfHittable> LightTree<T> {
         let mut n = 0;
         let mut p = 1.0;
         while !self.nodes[n].leaf {
-            let left = self.left_probability(n, origin, normal)?;
+            let left = self.left_probability(n, origin, normal, one_sided)?;
             if x < left {
                 x /= left;
                 n += 1;
@@ -197,33 +240,47 @@ impl<T: PdfHittable> LightTree<T> {
         Some((self.nodes[n].index as usize, x, n, p))
     }
 
-    pub(super) fn sample(&self, origin: DVec3, normal: Option<Receiver>, u: DVec2) -> DVec3 {
+    pub(super) fn sample(
+        &self,
+        origin: DVec3,
+        normal: Option<DVec3>,
+        one_sided: bool,
+        u: DVec2,
+    ) -> DVec3 {
         if !origin.is_finite() {
             return DVec3::ZERO;
         }
-        self.choose(origin, normal, u.x).map_or(DVec3::ZERO, |c| {
-            self.lights[c.light].sample_direction(origin, DVec2::new(c.rest, u.y))
-        })
+        self.choose(origin, normal, one_sided, u.x)
+            .map_or(DVec3::ZERO, |c| {
+                self.lights[c.light].sample_direction(origin, DVec2::new(c.rest, u.y))
+            })
     }
 
     /// [`PdfHittable::sample_light`]: the walk's pick sampled, its surface found, and the
     /// density, in which the picked light's probability is the walk's own (the same
     /// product, bit for bit, that the density finds by walking up from its leaf).
     pub(super) fn sample_light_at(&self, at: &ShadingContext, u: DVec2) -> Option<LightSample> {
-        let (origin, normal) = (at.point, at.receiver());
+        let (origin, normal) = (at.point, at.unit_normal());
         if !origin.is_finite() {
             return None;
         }
-        let c = self.choose(origin, normal, u.x)?;
+        let one_sided = at.one_sided && normal.is_some();
+        let c = self.choose(origin, normal, one_sided, u.x)?;
         let direction = self.lights[c.light].sample_direction(origin, DVec2::new(c.rest, u.y));
         let known = c.leaf.map(|leaf| (leaf, c.walk));
         LightSample::along_with(self, at, direction, |d| {
-            self.density_with(origin, normal, d, known)
+            self.density_with(origin, normal, one_sided, d, known)
         })
     }
 
-    pub(super) fn density(&self, origin: DVec3, normal: Option<Receiver>, direction: DVec3) -> f64 {
-        self.density_with(origin, normal, direction, None)
+    pub(super) fn density(
+        &self,
+        origin: DVec3,
+        normal: Option<DVec3>,
+        one_sided: bool,
+        direction: DVec3,
+    ) -> f64 {
+        self.density_with(origin, normal, one_sided, direction, None)
     }
 
     /// [`LightTree::density`], given the probability of reaching one leaf where it is
@@ -231,7 +288,8 @@ impl<T: PdfHittable> LightTree<T> {
     fn density_with(
         &self,
         origin: DVec3,
-        normal: Option<Receiver>,
+        normal: Option<DVec3>,
+        one_sided: bool,
         direction: DVec3,
         known: Option<(usize, f64)>,
     ) -> f64 {
@@ -270,7 +328,7 @@ impl<T: PdfHittable> LightTree<T> {
                 if pdf > 0.0 {
                     let p = match known {
                         Some((leaf, p)) if leaf == n => p,
-                        _ => self.reaching(n, origin, normal),
+                        _ => self.reaching(n, origin, normal, one_sided),
                     };
                     sum += p * pdf;
                 }
