@@ -7,6 +7,15 @@ use glam::{DVec2, DVec3};
 use crate::math::{UNIT_ROUNDOFF, gamma, l1, unit_and_length};
 use crate::{Aabb, GeometryError, HitRecord, Hittable, Interval, MaterialId, Ray};
 
+/// The least `|n.d|` taken as it is: below it, a direction of extreme length is rescaled
+/// first. `n.d` sums three products, and one of them may have underflowed (losing bits)
+/// where `d` is tiny, though the sum is a normal number: found by the direction-length
+/// property test, a plane's `t` one ulp off along `d * 2^-1016`. Each lost product is off
+/// by at most `2^-1075`; a sum of at least `2^-960` has ulps of `2^-1012` and more, so
+/// such an error cannot move its rounding (but for a tie within `2^-1075`), and the `t`
+/// is the one the rescaled ray gives, times the power of two, exactly.
+const DENOM_NORMAL: f64 = f64::from_bits((1023 - 960) << 52); // 2^-960
+
 /// The plane's [`tolerance`](Plane::tolerance), relative to its corners' magnitude `M`:
 /// 2^-48, that is `32 u_r M`. A corner computed as a user computes it, `offset + R * c` (a
 /// product of a matrix and a vector, then a sum) or `q + u`, is off by at most `gamma(4)`
@@ -228,7 +237,7 @@ impl Plane {
         // denom == 0 (parallel) gives an infinite or NaN t; an overflowed denom a false 0.
         // (Float comparisons, not `is_finite`: this is the hottest branch of a render.)
         let finite = (t.abs() < f64::INFINITY) & (denom.abs() < f64::INFINITY);
-        if !(finite && denom.abs() >= f64::MIN_POSITIVE) {
+        if !(finite && denom.abs() >= DENOM_NORMAL) {
             // Where `n.d` or `t` left the normal range, a direction of extreme length is
             // taken along the same ray with an ordinary one (the scaling is exact).
             if RESCALE && let Some(rescaled) = ray.rescaled() {
