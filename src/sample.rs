@@ -26,16 +26,10 @@ use crate::PdfHittable;
 pub struct ShadingContext {
     /// The point being shaded.
     pub point: DVec3,
-    /// The geometric normal of the surface there, or `None` in a medium, where no cosine
-    /// at a surface weighs the lights. A normal of length 0 or not finite counts as
-    /// `None`. Its sign changes no answer unless `one_sided`.
+    /// The geometric normal of the surface there, facing either side (its sign never
+    /// changes an answer), or `None` in a medium, where no cosine at a surface weighs the
+    /// lights. A normal of length 0 or not finite counts as `None`.
     pub normal: Option<DVec3>,
-    /// Whether the surface receives light on the side `normal` points to alone (an opaque
-    /// surface that only reflects: [`ShadingContext::reflecting`]): a
-    /// [`LightTree`](crate::LightTree) then never picks a light wholly behind it, and
-    /// weighs its clusters by the signed cosine. `false` (light from either side counts,
-    /// as a surface that transmits needs) by the other constructors.
-    pub one_sided: bool,
 }
 
 impl ShadingContext {
@@ -46,7 +40,6 @@ impl ShadingContext {
         Self {
             point,
             normal: None,
-            one_sided: false,
         }
     }
 
@@ -58,39 +51,6 @@ impl ShadingContext {
         Self {
             point,
             normal: Some(normal),
-            one_sided: false,
-        }
-    }
-
-    /// A point on an opaque surface that receives light on the side `normal` points to
-    /// alone (a wall, a floor: what lies behind it cannot light it); with a hit, its
-    /// `normal`, which faces the ray that found it.
-    ///
-    /// ```
-    /// use hitkit::glam::DVec3;
-    /// use hitkit::{LightTree, Quad, ShadingContext};
-    ///
-    /// # fn main() -> Result<(), hitkit::GeometryError> {
-    /// // A lamp on each side of a wall at y = 0, each facing the wall (a quad emits from
-    /// // the side `u x v` points to).
-    /// let above = Quad::new(DVec3::new(0.0, 1.0, 0.0), DVec3::X, DVec3::Z)?; // faces down
-    /// let below = Quad::new(DVec3::new(0.0, -1.0, 0.0), DVec3::Z, DVec3::X)?; // faces up
-    /// let tree = LightTree::from_lights(vec![above, below], &[1.0, 1.0])?;
-    /// let wall = ShadingContext::reflecting(DVec3::new(0.5, 0.0, 0.5), DVec3::Y);
-    /// assert_eq!(tree.probability(&wall, 0), 1.0); // the lamp behind is never picked
-    /// assert_eq!(tree.probability(&wall, 1), 0.0);
-    /// let either = ShadingContext::on_surface(DVec3::new(0.5, 0.0, 0.5), DVec3::Y);
-    /// assert_eq!(tree.probability(&either, 1), 0.5);
-    /// # Ok(())
-    /// # }
-    /// ```
-    #[inline]
-    #[must_use]
-    pub fn reflecting(point: DVec3, normal: DVec3) -> Self {
-        Self {
-            point,
-            normal: Some(normal),
-            one_sided: true,
         }
     }
 

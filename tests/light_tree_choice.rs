@@ -60,15 +60,8 @@ fn the_choice_is_at_least_as_sharp_as_pbrt_v4s() {
             let (t, b) = (lamps.tree(), lamps.pbrt());
             let ours = mean_choice_variance(&lamps, &points, |at, i| t.probability(at, i));
             let theirs = mean_choice_variance(&lamps, &points, |at, i| b.probability(at, i));
-            let one_sided = mean_choice_variance(&lamps, &points, |at, i| {
-                t.probability(
-                    &ShadingContext {
-                        one_sided: true,
-                        ..*at
-                    },
-                    i,
-                )
-            });
+            let one_sided =
+                mean_choice_variance(&lamps, &points, |at, i| t.probability_reflecting(at, i));
             let name = hall.name();
             // Where lamps lie behind the receivers (the walls hall's next rooms), a
             // one-sided receiver's choice is the sharper; elsewhere, the same.
@@ -102,20 +95,23 @@ fn next_event_estimation_by_pick_is_unbiased() {
         // From receivers of either side, and of one side (the walls hall's lamps beyond a
         // wall never picked there).
         let points = halls::points(hall, 4, 1.0, SEED);
-        let one_sided = points.iter().map(|at| ShadingContext {
-            one_sided: true,
-            ..*at
-        });
-        for at in points.iter().copied().chain(one_sided) {
+        let sides = points.iter().flat_map(|at| [(*at, false), (*at, true)]);
+        for (at, one_sided) in sides {
             let exact: f64 = (0..lamps.quads.len())
                 .map(|i| halls::irradiance(&lamps, i, &at))
                 .sum();
             let n = at.normal.unwrap();
             let samples: Vec<f64> = (0..4_000)
                 .map(|_| {
-                    // (A walk may end on no light: a node all of whose lights lie behind a
-                    // one-sided receiver, found below one whose box reaches in front.)
-                    let Some(pick) = t.pick(&at, rng.next_f64()) else {
+                    // (From one side, a walk may end on no light: a node none of whose
+                    // lights can light the point.)
+                    let x = rng.next_f64();
+                    let pick = if one_sided {
+                        t.pick_reflecting(&at, x)
+                    } else {
+                        t.pick(&at, x)
+                    };
+                    let Some(pick) = pick else {
                         return 0.0;
                     };
                     let i = pick.light;

@@ -300,7 +300,7 @@ fn lights_say_which_side_they_emit_on() {
     }
 }
 
-/// A receiver that only reflects (`ShadingContext::reflecting`) on a wall of a room whose
+/// A receiver that only reflects (`LightTree::sample_light_reflecting` and its siblings) on a wall of a room whose
 /// lamps sit on the other three walls, facing in: the lamps behind it (the next room's,
 /// on the other side of its wall, facing it) are never picked nor sampled, and the
 /// irradiance it gathers, `E = sum of L cos+ / pdf`, is the same, within the estimates'
@@ -331,32 +331,35 @@ fn a_receiver_that_only_reflects_never_picks_a_lamp_behind_it() {
     let tree = LightTree::from_lights(lamps, &vec![1.0; n]).unwrap();
     // On the wall x = 5, facing into the room.
     let point = DVec3::new(5.0, 1.0, 0.3);
-    let wall = ShadingContext::reflecting(point, DVec3::NEG_X);
-    let either = ShadingContext::on_surface(point, DVec3::NEG_X);
+    // The same context: the tree is asked from one side or from either.
+    let wall = ShadingContext::on_surface(point, DVec3::NEG_X);
+    let either = wall;
     for &i in &behind {
-        assert_eq!(tree.probability(&wall, i), 0.0, "lamp {i} behind the wall");
+        assert_eq!(
+            tree.probability_reflecting(&wall, i),
+            0.0,
+            "lamp {i} behind the wall"
+        );
         assert!(tree.probability(&either, i) > 0.0);
     }
-    let sum: f64 = (0..n).map(|i| tree.probability(&wall, i)).sum();
+    let sum: f64 = (0..n).map(|i| tree.probability_reflecting(&wall, i)).sum();
     assert!((sum - 1.0).abs() < 1e-12, "{sum}");
 
     let mut rng = SplitMix::new(60);
     let (mut one, mut two) = (Vec::new(), Vec::new());
     for _ in 0..20_000 {
         let u = DVec2::new(rng.next_f64(), rng.next_f64());
-        let estimate = |at: &ShadingContext, out: &mut Vec<f64>| {
-            let value = at_most_front(tree.sample_light(at, u));
-            out.push(value);
-        };
-        estimate(&wall, &mut one);
-        estimate(&either, &mut two);
+        one.push(at_most_front(tree.sample_light_reflecting(&wall, u)));
+        two.push(at_most_front(tree.sample_light(&either, u)));
     }
     // No sample of the one-sided tree lies behind the wall.
     let mut rng = SplitMix::new(61);
     for _ in 0..2_000 {
         let u = DVec2::new(rng.next_f64(), rng.next_f64());
-        if let Some(s) = tree.sample_light(&wall, u) {
+        if let Some(s) = tree.sample_light_reflecting(&wall, u) {
             assert!(s.record.point.x < 5.0, "{}", s.record.point);
+            // Its density is the one-sided walk's.
+            assert_eq!(s.pdf, tree.light_pdf_reflecting(&wall, s.direction));
         }
     }
     let (a, b) = (support::mean_and_error(&one), support::mean_and_error(&two));

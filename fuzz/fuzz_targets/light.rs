@@ -9,9 +9,7 @@
 #![no_main]
 
 use hitkit::glam::DVec2;
-use std::sync::Arc;
-
-use hitkit::{Interval, LightTree, PdfHittable, Ray, ShadingContext};
+use hitkit::{Hittable, Interval, LightTree, PdfHittable, Ray, ShadingContext};
 use hitkit_fuzz::LightInput;
 use libfuzzer_sys::fuzz_target;
 
@@ -34,11 +32,7 @@ fuzz_target!(|input: LightInput| {
     let middle = light.sample_direction(origin, DVec2::splat(0.5));
     let reachable = light.pdf_value(origin, middle) > 0.0;
     // Two copies in a light tree: a walk that weighs the copies by the context.
-    let pair: Arc<dyn PdfHittable> =
-        match LightTree::from_lights(vec![light.clone(), light.clone()], &[1.0, 1.0]) {
-            Ok(tree) => Arc::new(tree),
-            Err(_) => light.clone(),
-        };
+    let pair = LightTree::from_lights(vec![light.clone(), light.clone()], &[1.0, 1.0]).ok();
     let at = match input.normal {
         Some(n) => ShadingContext::on_surface(origin, n.get()),
         None => ShadingContext::at(origin),
@@ -62,27 +56,27 @@ fuzz_target!(|input: LightInput| {
                 "from {origin}, u {u}: direction {d} has density 0"
             );
         }
-        // From a surface receiving on either side, and on its front alone.
-        let reflecting = ShadingContext {
-            one_sided: true,
-            ..at
-        };
-        for (light, at) in [
-            (&light, at),
-            (&light, reflecting),
-            (&pair, at),
-            (&pair, reflecting),
-        ] {
-            if let Some(sample) = light.sample_light(&at, u) {
-                assert!(sample.pdf > 0.0 && sample.pdf.is_finite(), "{sample:?}");
-                assert!(
-                    sample.distance.is_finite() && sample.direction.is_finite(),
-                    "{sample:?}"
-                );
-                let ray = Ray::new(at.point, sample.direction);
-                let hit = light.hit(&ray, Interval::FORWARD);
-                assert_eq!(hit.map(|h| h.t), Some(sample.distance), "{sample:?}");
-            }
+        // The light; the pair from a surface receiving on either side, and on its front
+        // alone.
+        let samples = [
+            light.sample_light(&at, u),
+            pair.as_ref().and_then(|p| p.sample_light(&at, u)),
+            pair.as_ref()
+                .and_then(|p| p.sample_light_reflecting(&at, u)),
+        ];
+        for (k, sample) in samples.into_iter().enumerate() {
+            let Some(sample) = sample else { continue };
+            assert!(sample.pdf > 0.0 && sample.pdf.is_finite(), "{sample:?}");
+            assert!(
+                sample.distance.is_finite() && sample.direction.is_finite(),
+                "{sample:?}"
+            );
+            let ray = Ray::new(at.point, sample.direction);
+            let hit = match (k, &pair) {
+                (0, _) | (_, None) => light.hit(&ray, Interval::FORWARD),
+                (_, Some(p)) => p.hit(&ray, Interval::FORWARD),
+            };
+            assert_eq!(hit.map(|h| h.t), Some(sample.distance), "{sample:?}");
         }
     }
 });

@@ -33,14 +33,6 @@ fn chosen(args: &Args) -> impl Iterator<Item = Hall> + '_ {
     })
 }
 
-/// `at` as a surface that only reflects: light from its normal's side alone.
-fn reflecting(at: &ShadingContext) -> ShadingContext {
-    ShadingContext {
-        one_sided: true,
-        ..*at
-    }
-}
-
 /// One row per hall and count: the choice's variance of the tree at every scale (from
 /// receivers of either side, then of one side), then pbrt's at every scale.
 pub(super) fn variance_rows(args: &Args) -> Vec<String> {
@@ -58,7 +50,7 @@ pub(super) fn variance_rows(args: &Args) -> Vec<String> {
                     t.probability(at, i)
                 }));
                 one_sided_row.push(mean_choice_variance(&lamps, &points, |at, i| {
-                    t.probability(&reflecting(at), i)
+                    t.probability_reflecting(at, i)
                 }));
                 pbrt_row.push(mean_choice_variance(&lamps, &points, |at, i| {
                     b.probability(at, i)
@@ -200,7 +192,7 @@ pub(super) fn estimate_rows(args: &Args) -> Vec<String> {
                         spp,
                         seed,
                         |at, u| {
-                            t.pick(&reflecting(at), u)
+                            t.pick_reflecting(at, u)
                                 .map(|p| (p.light, p.probability, p.rest))
                         },
                     ));

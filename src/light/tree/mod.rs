@@ -38,8 +38,8 @@ use crate::{
 /// cluster by the cosine at the surface too, on either side of it (as pbrt-v4 does): a
 /// light behind the surface is picked as a light in front of it would be, so a normal
 /// facing either way gives light. From a surface that only reflects
-/// ([`ShadingContext::reflecting`]), by the signed cosine: a light wholly behind it is
-/// never picked. As a [`Hittable`], the tree is the list of its lights
+/// ([`LightTree::pick_reflecting`] and its siblings), by the signed cosine: a light
+/// wholly behind it is never picked. As a [`Hittable`], the tree is the list of its lights
 /// (the closest hit; ties go to the earlier light).
 ///
 /// ```
@@ -392,25 +392,18 @@ impl<T: PdfHittable> PdfHittable for LightTree<T> {
 
     /// As [`sample_direction`](PdfHittable::sample_direction), with the context's normal:
     /// each choice weighs the cosine at the surface too, in absolute value (the normal's
-    /// side does not matter), or signed for a context that is `one_sided`. `None` for an
-    /// empty tree, a point that is not finite, or a sampled direction along which no
-    /// light's surface is found (see [`LightSample::along`]); never because of where the
-    /// lights lie, but for a one-sided context every light of which lies wholly behind it
-    /// (none can light it).
+    /// side does not matter; [`LightTree::sample_light_reflecting`] for a surface that
+    /// only reflects). `None` for an empty tree, a point that is not finite, or a sampled
+    /// direction along which no light's surface is found (see [`LightSample::along`]);
+    /// never because of where the lights lie.
     fn sample_light(&self, at: &ShadingContext, u: DVec2) -> Option<LightSample> {
-        self.sample_light_at(at, u)
+        self.sample_light_at(at, u, false)
     }
 
     /// As [`pdf_value`](PdfHittable::pdf_value), with the context's normal (see
     /// [`sample_light`](PdfHittable::sample_light)).
     fn light_pdf(&self, at: &ShadingContext, direction: DVec3) -> f64 {
-        let normal = at.unit_normal();
-        self.density(
-            at.point,
-            normal,
-            at.one_sided && normal.is_some(),
-            direction,
-        )
+        self.density(at.point, at.unit_normal(), false, direction)
     }
 
     fn light_hit(&self, ray: &Ray, ray_t: Interval) -> Option<(usize, HitRecord)> {
@@ -484,10 +477,11 @@ mod tests {
     fn pick_at<T: PdfHittable>(
         tree: &LightTree<T>,
         at: &ShadingContext,
+        one_sided: bool,
         x: f64,
     ) -> Option<(usize, f64, usize, f64)> {
         let n = at.unit_normal();
-        tree.pick_at(at.point, n, at.one_sided && n.is_some(), x)
+        tree.pick_at(at.point, n, one_sided && n.is_some(), x)
     }
 
     /// A point, with or without a normal, receiving on one side or both.
@@ -523,9 +517,10 @@ mod tests {
         ) {
             let tree = tree(&specs, offset);
             let origin = o + offset;
-            let at = ShadingContext { point: origin, normal, one_sided };
+            let at = ShadingContext { point: origin, normal };
             let one_sided = one_sided && at.unit_normal().is_some();
-            let p: Vec<f64> = (0..specs.len()).map(|i| tree.probability(&at, i)).collect();
+            let probability = |i| if one_sided { tree.probability_reflecting(&at, i) } else { tree.probability(&at, i) };
+            let p: Vec<f64> = (0..specs.len()).map(probability).collect();
             let sum: f64 = p.iter().sum();
             let depth = 2 * specs.len();
             let rounding = (depth + specs.len()) as f64 * f64::EPSILON;
@@ -553,14 +548,14 @@ mod tests {
             const N: usize = 4096;
             let mut counts = alloc::vec![0usize; specs.len()];
             for k in 0..N {
-                let picked = pick_at(&tree, &at, (k as f64 + 0.5) / N as f64);
+                let picked = pick_at(&tree, &at, one_sided, (k as f64 + 0.5) / N as f64);
                 // The walk always ends on a light (but where all are behind a one-sided
                 // receiver).
                 prop_assert!(picked.is_some() || one_sided);
                 if let Some((i, rest, _, probability)) = picked {
                     prop_assert!((0.0..1.0).contains(&rest));
                     // The walk's own product is the one found from the leaf up.
-                    prop_assert_eq!(probability, tree.probability(&at, i));
+                    prop_assert_eq!(probability, p[i]);
                     counts[i] += 1;
                 }
             }
@@ -583,19 +578,23 @@ mod tests {
             u in prop::array::uniform2(0.0f64..1.0),
         ) {
             let tree = tree(&specs, 0.0);
-            let at = ShadingContext { point: origin, normal, one_sided };
+            let at = ShadingContext { point: origin, normal };
             let (n, u) = (at.unit_normal(), DVec2::from(u));
             let d = tree.sample(origin, n, one_sided && n.is_some(), u);
             prop_assert!(d.is_finite());
-            let pdf = tree.light_pdf(&at, d);
+            let one_sided = one_sided && n.is_some();
+            let pdf = if one_sided { tree.light_pdf_reflecting(&at, d) } else { tree.light_pdf(&at, d) };
             let loop_sum: f64 = (0..specs.len())
-                .map(|i| tree.probability(&at, i) * tree.lights()[i].pdf_value(origin, d))
+                .map(|i| {
+                    let p = if one_sided { tree.probability_reflecting(&at, i) } else { tree.probability(&at, i) };
+                    p * tree.lights()[i].pdf_value(origin, d)
+                })
                 .sum();
             let rounding = (4 * specs.len() + specs.len()) as f64 * f64::EPSILON;
             prop_assert!((pdf - loop_sum).abs() <= rounding * loop_sum, "{} against {}", pdf, loop_sum);
             // A light that can be reached from here gets a density: the sampled direction
             // reaches the light it was drawn toward.
-            if let Some((i, ..)) = pick_at(&tree, &at, u.x)
+            if let Some((i, ..)) = pick_at(&tree, &at, one_sided, u.x)
                 && tree.lights()[i].pdf_value(origin, d) > 0.0
             {
                 prop_assert!(pdf > 0.0);

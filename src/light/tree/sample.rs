@@ -37,12 +37,46 @@ impl<T: PdfHittable> LightTree<T> {
     /// ```
     #[must_use]
     pub fn pick(&self, at: &ShadingContext, u: f64) -> Option<crate::LightPick> {
+        self.pick_sided(at, u, false)
+    }
+
+    /// [`LightTree::pick`] from a surface that only reflects: one that receives light on
+    /// the side `at.normal` points to alone (an opaque wall or floor; with a hit, its
+    /// `normal` faces the ray that found it). Each cluster is weighed by the signed
+    /// cosine there, a light wholly behind the surface is never picked, and where nothing
+    /// can light the surface (every light behind it or facing away), nothing is. Without
+    /// a normal, [`LightTree::pick`].
+    ///
+    /// ```
+    /// use hitkit::glam::DVec3;
+    /// use hitkit::{LightTree, Quad, ShadingContext};
+    ///
+    /// # fn main() -> Result<(), hitkit::GeometryError> {
+    /// // A lamp on each side of a wall at y = 0, each facing the wall (a quad emits from
+    /// // the side `u x v` points to).
+    /// let above = Quad::new(DVec3::new(0.0, 1.0, 0.0), DVec3::X, DVec3::Z)?; // faces down
+    /// let below = Quad::new(DVec3::new(0.0, -1.0, 0.0), DVec3::Z, DVec3::X)?; // faces up
+    /// let tree = LightTree::from_lights(vec![above, below], &[1.0, 1.0])?;
+    /// let wall = ShadingContext::on_surface(DVec3::new(0.5, 0.0, 0.5), DVec3::Y);
+    /// assert_eq!(tree.probability_reflecting(&wall, 0), 1.0);
+    /// assert_eq!(tree.probability_reflecting(&wall, 1), 0.0); // behind: never picked
+    /// assert_eq!(tree.pick_reflecting(&wall, 0.9).map(|p| p.light), Some(0));
+    /// assert_eq!(tree.probability(&wall, 1), 0.5); // from either side
+    /// # Ok(())
+    /// # }
+    /// ```
+    #[must_use]
+    pub fn pick_reflecting(&self, at: &ShadingContext, u: f64) -> Option<crate::LightPick> {
+        self.pick_sided(at, u, true)
+    }
+
+    /// [`LightTree::pick`], from one side alone where `one_sided` (and there is a normal).
+    fn pick_sided(&self, at: &ShadingContext, u: f64, one_sided: bool) -> Option<crate::LightPick> {
         let (origin, normal) = (at.point, at.unit_normal());
         if !origin.is_finite() {
             return None;
         }
-        let one_sided = at.one_sided && normal.is_some();
-        let chosen = self.choose(origin, normal, one_sided, u)?;
+        let chosen = self.choose(origin, normal, one_sided && normal.is_some(), u)?;
         Some(crate::LightPick {
             light: chosen.light,
             probability: chosen.probability(),
@@ -57,6 +91,21 @@ impl<T: PdfHittable> LightTree<T> {
     /// If `i >= self.lights().len()`.
     #[must_use]
     pub fn probability(&self, at: &ShadingContext, i: usize) -> f64 {
+        self.probability_sided(at, i, false)
+    }
+
+    /// [`LightTree::probability`] from a surface that only reflects (see
+    /// [`LightTree::pick_reflecting`]): 0 for a light wholly behind it.
+    ///
+    /// # Panics
+    /// If `i >= self.lights().len()`.
+    #[must_use]
+    pub fn probability_reflecting(&self, at: &ShadingContext, i: usize) -> f64 {
+        self.probability_sided(at, i, true)
+    }
+
+    /// [`LightTree::probability`], from one side alone where `one_sided`.
+    fn probability_sided(&self, at: &ShadingContext, i: usize, one_sided: bool) -> f64 {
         let (origin, normal) = (at.point, at.unit_normal());
         if !origin.is_finite() {
             return 0.0;
@@ -69,10 +118,28 @@ impl<T: PdfHittable> LightTree<T> {
             NONE => 0.0,
             _ if !slots.tree => 0.0,
             leaf => {
-                let one_sided = at.one_sided && normal.is_some();
+                let one_sided = one_sided && normal.is_some();
                 self.reaching(leaf as usize, origin, normal, one_sided) * slots.each
             }
         }
+    }
+
+    /// [`PdfHittable::sample_light`] from a surface that only reflects (see
+    /// [`LightTree::pick_reflecting`]); its density is
+    /// [`LightTree::light_pdf_reflecting`]'s. `None` also where nothing can light the
+    /// surface.
+    #[must_use]
+    pub fn sample_light_reflecting(&self, at: &ShadingContext, u: DVec2) -> Option<LightSample> {
+        self.sample_light_at(at, u, true)
+    }
+
+    /// [`PdfHittable::light_pdf`] from a surface that only reflects (see
+    /// [`LightTree::pick_reflecting`]): the density of
+    /// [`LightTree::sample_light_reflecting`]'s directions.
+    #[must_use]
+    pub fn light_pdf_reflecting(&self, at: &ShadingContext, direction: DVec3) -> f64 {
+        let normal = at.unit_normal();
+        self.density(at.point, normal, normal.is_some(), direction)
     }
 
     /// The first choices (the infinite lights, then the tree where it holds a light of
@@ -259,12 +326,17 @@ impl<T: PdfHittable> LightTree<T> {
     /// [`PdfHittable::sample_light`]: the walk's pick sampled, its surface found, and the
     /// density, in which the picked light's probability is the walk's own (the same
     /// product, bit for bit, that the density finds by walking up from its leaf).
-    pub(super) fn sample_light_at(&self, at: &ShadingContext, u: DVec2) -> Option<LightSample> {
+    pub(super) fn sample_light_at(
+        &self,
+        at: &ShadingContext,
+        u: DVec2,
+        one_sided: bool,
+    ) -> Option<LightSample> {
         let (origin, normal) = (at.point, at.unit_normal());
         if !origin.is_finite() {
             return None;
         }
-        let one_sided = at.one_sided && normal.is_some();
+        let one_sided = one_sided && normal.is_some();
         let c = self.choose(origin, normal, one_sided, u.x)?;
         let direction = self.lights[c.light].sample_direction(origin, DVec2::new(c.rest, u.y));
         let known = c.leaf.map(|leaf| (leaf, c.walk));
