@@ -390,3 +390,27 @@ fn at_most_front(sample: Option<hitkit::LightSample>) -> f64 {
         }
     })
 }
+
+/// A tree of one lamp, wholly behind a surface that only reflects: never picked, no
+/// sample, and a density of 0 in every direction (its sampling's, which has none), while
+/// from either side it is picked always and its own density is the tree's.
+#[test]
+fn a_single_lamp_behind_a_reflecting_surface_has_no_density() {
+    let lamp = Quad::new(DVec3::new(-0.5, -2.0, -0.5), DVec3::Z, DVec3::X).unwrap(); // faces up
+    let tree = LightTree::from_lights(vec![lamp], &[1.0]).unwrap();
+    let floor = ShadingContext::on_surface(DVec3::ZERO, DVec3::Y);
+    assert_eq!(tree.probability_reflecting(&floor, 0), 0.0);
+    assert!(tree.pick_reflecting(&floor, 0.3).is_none());
+    assert!(
+        tree.sample_light_reflecting(&floor, DVec2::new(0.3, 0.6))
+            .is_none()
+    );
+    let down = DVec3::NEG_Y;
+    assert_eq!(tree.light_pdf_reflecting(&floor, down), 0.0);
+    assert_eq!(tree.probability(&floor, 0), 1.0);
+    assert!(tree.light_pdf(&floor, down) > 0.0);
+    assert_eq!(
+        tree.light_pdf(&floor, down),
+        lamp.pdf_value(DVec3::ZERO, down)
+    );
+}

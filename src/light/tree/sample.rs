@@ -370,7 +370,11 @@ impl<T: PdfHittable> LightTree<T> {
             return 0.0;
         };
         if let [only] = self.lights.as_slice() {
-            // Picked always: its own density, and no box test before it.
+            // Picked always (but from a one-sided surface it cannot light): its own
+            // density, and no box test before it.
+            if self.behind(origin, normal, one_sided) {
+                return 0.0;
+            }
             return only.pdf_value(origin, direction);
         }
         let infinite = |sum: f64| {
