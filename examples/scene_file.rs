@@ -184,6 +184,8 @@ fn scene(
                 }))
             }
         })
+        // Each punctual light's emitter follows, as its material id says.
+        .chain(file.punctual.iter().map(|p| Material::Light(p.emitted())))
         .collect::<Vec<_>>();
     let lights = file
         .textured_lights()

@@ -314,6 +314,7 @@ impl LightSample {
             record,
             pdf,
             light,
+            delta: false,
         })
     }
 }

@@ -207,7 +207,7 @@ pub use light::RandomDirection;
 #[cfg(feature = "rand09")]
 #[cfg_attr(docsrs, doc(cfg(feature = "rand09")))]
 pub use light::RandomDirection09;
-pub use light::{LightPick, LightTree, Mixture};
+pub use light::{Light, LightPick, LightTree, Mixture, PunctualLight};
 pub use masked::Masked;
 pub use mesh::{Candidate, Face, Filtered, TriangleMesh};
 pub use ray::Ray;
@@ -233,8 +233,9 @@ pub mod load {
     #[cfg(feature = "gltf")]
     pub use crate::features::gltf::{
         Alpha, Emitter, Filter, GltfCamera, GltfImage, GltfInstance, GltfLights, GltfMaterial,
-        GltfMesh, GltfOptions, GltfScene, GltfSurface, GltfTexture, LeftOut, Projection, Sampler,
-        Scenes, TextureTransform, Wrap, load_gltf, load_gltf_slice, load_gltf_with,
+        GltfMesh, GltfOptions, GltfPunctual, GltfScene, GltfSurface, GltfTexture, LeftOut,
+        Projection, Sampler, Scenes, TextureTransform, Wrap, load_gltf, load_gltf_slice,
+        load_gltf_with,
     };
     pub use crate::features::load::{LoadError, LoadErrorKind};
     #[cfg(feature = "obj")]

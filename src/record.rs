@@ -363,6 +363,11 @@ impl HitRecord {
     /// distance of the light's surface (`2^-46` of the coordinates, about `1e-14` of them)
     /// is not seen.
     ///
+    /// A target at infinity (its `t` infinite: a sun's sample, see
+    /// [`LightSample::delta`](crate::LightSample::delta)) gives [`spawn_ray`](Self::spawn_ray)
+    /// toward it (against its normal, which faces this hit) and the range `[0, infinity]`:
+    /// everything along the way occludes.
+    ///
     /// ```
     /// use hitkit::glam::{DVec2, DVec3};
     /// use hitkit::{Hittable, Interval, PdfHittable, Quad, Ray, ShadingContext};
@@ -380,6 +385,15 @@ impl HitRecord {
     #[inline]
     #[must_use]
     pub fn spawn_ray_to(&self, target: &HitRecord) -> (Ray, Interval) {
+        if target.t == f64::INFINITY {
+            let ray = self.spawn_ray(-target.normal);
+            let range = if ray.is_valid() {
+                Interval::FORWARD
+            } else {
+                Interval::EMPTY
+            };
+            return (ray, range);
+        }
         let toward = if target.normal.dot(self.point - target.point) < 0.0 {
             -target.normal
         } else {

@@ -98,7 +98,11 @@ pub struct LightSample {
     /// to), its material and `uv`. [`HitRecord::spawn_ray_to`] aims a shadow ray at it.
     pub record: HitRecord,
     /// The density over solid angle with which `direction` was drawn
-    /// ([`PdfHittable::light_pdf`] from the same context): positive and finite.
+    /// ([`PdfHittable::light_pdf`] from the same context): positive and finite. For a
+    /// `delta` sample, which no density draws, what the light's emitted value is divided
+    /// by instead: `distance^2 / falloff` times the probability of the pick (see
+    /// [`PunctualLight`](crate::PunctualLight)), so that `emitted * cos / pdf` is the
+    /// estimate for every kind of light.
     pub pdf: f64,
     /// Which light the sampled point is on: its index in the lights of the
     /// [`LightTree`](crate::LightTree), [`Mixture`](crate::Mixture), slice or `Vec` that
@@ -106,6 +110,12 @@ pub struct LightSample {
     /// `record` (its `uv`, `primitive` and point), where on it: what a textured emitter's
     /// lookup needs ([`PdfHittable::light_hit`]).
     pub light: usize,
+    /// Whether the light is a point, spot or sun ([`PunctualLight`](crate::PunctualLight)),
+    /// which no ray finds and no density draws: multiple importance sampling weighs the
+    /// sample 1 (no other strategy can find the light), and `pdf` is not a density (see
+    /// there). For a sun, `distance` and `record.t` are infinite and `record.point` is the
+    /// unit direction toward it; [`HitRecord::spawn_ray_to`] aims a shadow ray to infinity.
+    pub delta: bool,
 }
 
 /// How far a light's sampler retreats toward the middle of its shape, in turn, when a
@@ -181,6 +191,24 @@ pub(crate) fn toward_middle(u: DVec2, k: f64) -> DVec2 {
     } else {
         DVec2::splat(0.5) + (u - DVec2::splat(0.5)) * k
     }
+}
+
+/// `sample`, a light's own (a [`PunctualLight`](crate::PunctualLight)'s: its
+/// `sample_direction` is the zero vector), picked with `probability` as light `index` of
+/// a mixture, tree or list: its `pdf` times the pick's; `None` for no sample or one that
+/// is not delta (a light that drew the zero vector has no other sample there).
+pub(crate) fn delta_pick(
+    sample: Option<LightSample>,
+    probability: f64,
+    index: usize,
+) -> Option<LightSample> {
+    let sample = sample.filter(|s| s.delta)?;
+    let pdf = sample.pdf * probability;
+    (pdf > 0.0 && pdf.is_finite()).then_some(LightSample {
+        pdf,
+        light: index,
+        ..sample
+    })
 }
 
 /// The directions a light emits in, for a [`LightTree`](crate::LightTree)'s importance: a light that faces

@@ -283,7 +283,12 @@ fn next_event<W: Hittable>(
     if scene.world.occluded(&shadow.with_mask(u32::MAX), range) {
         return Color::ZERO;
     }
-    let weight = power_heuristic(sample.pdf, cos / PI);
+    // A point, spot or sun: no bounce finds it, so its sample has all the weight.
+    let weight = if sample.delta {
+        1.0
+    } else {
+        power_heuristic(sample.pdf, cos / PI)
+    };
     emitted * (cos / PI * weight / sample.pdf)
 }
 

@@ -6,7 +6,10 @@ use alloc::vec::Vec;
 use glam::{DVec2, DVec3};
 
 use crate::math::power_of_two_scale;
-use crate::{Aabb, GeometryError, HitRecord, Hittable, Interval, PdfHittable, Ray};
+use crate::{
+    Aabb, GeometryError, HitRecord, Hittable, Interval, LightSample, PdfHittable, Ray,
+    ShadingContext,
+};
 
 /// Lights picked with probabilities proportional to given weights, as one [`PdfHittable`]:
 /// `sample_direction` picks light `i` with probability `p_i` and samples it;
@@ -206,6 +209,25 @@ impl<T: PdfHittable> PdfHittable for Mixture<T> {
         self.pick(u.x).map_or(DVec3::ZERO, |pick| {
             self.lights[pick.light].sample_direction(origin, DVec2::new(pick.rest, u.y))
         })
+    }
+
+    /// The light [`sample_direction`](PdfHittable::sample_direction) picks, sampled: its
+    /// surface along the direction and the mixture's density (the provided way), or where
+    /// it has no density (a [`PunctualLight`](crate::PunctualLight)), its own delta sample
+    /// with `pdf` times its probability.
+    fn sample_light(&self, at: &ShadingContext, u: DVec2) -> Option<LightSample> {
+        let pick = self.pick(u.x)?;
+        let light = &self.lights[pick.light];
+        let u = DVec2::new(pick.rest, u.y);
+        let direction = light.sample_direction(at.point, u);
+        if direction == DVec3::ZERO {
+            return crate::sample::delta_pick(
+                light.sample_light(at, u),
+                pick.probability,
+                pick.light,
+            );
+        }
+        LightSample::along(self, at, direction)
     }
 
     #[inline]

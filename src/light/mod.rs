@@ -5,16 +5,23 @@
 //! - `uniform.rs`: a slice or `Vec` of lights as their uniform mixture; [`Mixture`]
 //!   (`mixture.rs`): lights picked by weight; [`LightTree`] (`tree/`): lights picked by
 //!   their importance from the shading point (its build, its cluster bounds, its walk).
+//! - [`PunctualLight`] (`punctual.rs`): point, spot and sun lights, of no surface and a
+//!   delta density; [`Light`] (`either.rs`): a surface or a punctual light, for a tree of
+//!   both kinds.
 //! - `RandomDirection` and `RandomDirection09` (`random.rs`, the `rand` and `rand09`
 //!   features): a light sampled with a `rand` generator.
 
+mod either;
 mod mixture;
+mod punctual;
 #[cfg(any(feature = "rand", feature = "rand09"))]
 mod random;
 mod tree;
 mod uniform;
 
+pub use either::Light;
 pub use mixture::Mixture;
+pub use punctual::PunctualLight;
 
 /// A light picked for next-event estimation ([`LightTree::pick`], [`Mixture::pick`]):
 /// which one, the probability it had, and what is left of the number that picked it.

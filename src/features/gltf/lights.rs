@@ -6,12 +6,13 @@ use std::vec::Vec;
 
 use glam::{DVec2, DVec3};
 
-use super::{GltfMaterial, GltfScene};
+use super::{GltfMaterial, GltfPunctual, GltfScene};
 use crate::light::Emitters;
 use crate::{
-    Aabb, Emission, GeometryError, HitRecord, Hittable, Interval, LightSample, LightTree,
-    PdfHittable, Quad, Ray, ShadingContext, Triangle,
+    Aabb, Emission, GeometryError, HitRecord, Hittable, Interval, Light, LightSample, LightTree,
+    PdfHittable, PunctualLight, Quad, Ray, ShadingContext, Triangle,
 };
+use std::string::ToString;
 
 impl GltfScene {
     /// The faces of every instance whose material emits, in world space, as the lights
@@ -31,7 +32,11 @@ impl GltfScene {
     /// # Errors
     /// As [`LightTree::new`].
     pub fn lights(&self) -> Result<Option<LightTree<Quad<Triangle>>>, GeometryError> {
-        Ok(self.lights_with(|_| 1.0)?.map(|lights| lights.tree))
+        let (emitters, ..) = self.faces_with(|_| 1.0);
+        if emitters.is_empty() {
+            return Ok(None);
+        }
+        emitters.tree().map(Some)
     }
 
     /// [`GltfScene::lights`], each face weighed by the mean luminance of its emissive
@@ -66,6 +71,9 @@ impl GltfScene {
     /// own texture lookup gives from the face's `uvs`): a face of weight 0 (or negative,
     /// or NaN) is not a light. With the tree, which instance and face each light is, for
     /// the texture lookup at a sampled point ([`GltfLights`] names them in its samples).
+    /// The scene's [`punctual`](GltfScene::punctual) lights follow the faces in the tree,
+    /// each of [`GltfPunctual::power`] (a sun among the tree's infinite lights); `None`
+    /// where no face emits and there is no such light.
     ///
     /// ```
     /// # #[cfg(feature = "gltf")]
@@ -84,8 +92,34 @@ impl GltfScene {
     /// As [`LightTree::new`].
     pub fn lights_with(
         &self,
-        mut weight: impl FnMut(&Emitter) -> f64,
+        weight: impl FnMut(&Emitter) -> f64,
     ) -> Result<Option<GltfLights>, GeometryError> {
+        let (emitters, sources, uvs) = self.faces_with(weight);
+        if emitters.is_empty() && self.punctual.is_empty() {
+            return Ok(None);
+        }
+        let (faces, mut powers, mut emission) = emitters.into_parts();
+        let mut lights: Vec<Light<Quad<Triangle>>> =
+            faces.into_iter().map(Light::Surface).collect();
+        for p in &self.punctual {
+            lights.push(Light::Punctual(p.light));
+            powers.push(p.power());
+            emission.push(p.light.emission());
+        }
+        Ok(Some(GltfLights {
+            tree: LightTree::new(lights, &powers, &emission)?,
+            sources,
+            uvs,
+        }))
+    }
+
+    /// The emitting faces of [`GltfScene::lights_with`], each weighed, with the instance
+    /// and face each is and its face's `TEXCOORD_0` in the order of its corners.
+    #[allow(clippy::type_complexity)]
+    fn faces_with(
+        &self,
+        mut weight: impl FnMut(&Emitter) -> f64,
+    ) -> (Emitters, Vec<(usize, u32)>, Vec<Option<[DVec2; 3]>>) {
         let mut emitters = Emitters::default();
         let (mut sources, mut uvs) = (Vec::new(), Vec::new());
         for (i, instance) in self.instances.iter().enumerate() {
@@ -127,15 +161,60 @@ impl GltfScene {
                 }
             }
         }
-        if emitters.is_empty() {
-            return Ok(None);
-        }
-        Ok(Some(GltfLights {
-            tree: emitters.tree()?,
-            sources,
-            uvs,
-        }))
+        (emitters, sources, uvs)
     }
+}
+
+/// Light `light` of `KHR_lights_punctual` on a node whose transform composed with its
+/// parents' is `world`: at the node's origin, shining along its `-z` (scale ignored, as
+/// glTF says), with material `material`.
+pub(super) fn punctual_at(
+    light: &gltf::khr_lights_punctual::Light,
+    node: String,
+    world: glam::DMat4,
+    material: crate::MaterialId,
+) -> Result<GltfPunctual, GeometryError> {
+    let position = world.transform_point3(DVec3::ZERO);
+    let direction = world.transform_vector3(DVec3::NEG_Z);
+    let placed = match light.kind() {
+        gltf::khr_lights_punctual::Kind::Point => PunctualLight::point(position),
+        gltf::khr_lights_punctual::Kind::Directional => PunctualLight::sun(direction),
+        gltf::khr_lights_punctual::Kind::Spot {
+            inner_cone_angle,
+            outer_cone_angle,
+        } => PunctualLight::spot(
+            position,
+            direction,
+            f64::from(inner_cone_angle),
+            f64::from(outer_cone_angle),
+        ),
+    }?;
+    let [r, g, b] = light.color().map(f64::from);
+    let color = DVec3::new(r, g, b);
+    let intensity = f64::from(light.intensity());
+    if !color.is_finite() || !intensity.is_finite() {
+        return Err(GeometryError::NonFinite {
+            what: "light colour or intensity",
+        });
+    }
+    if intensity < 0.0 || color.min_element() < 0.0 {
+        return Err(GeometryError::InvalidParameter {
+            what: "light colour or intensity",
+            value: intensity.min(color.min_element()),
+            domain: "[0, infinity)",
+        });
+    }
+    Ok(GltfPunctual {
+        node,
+        name: light.name().map_or_else(
+            || std::format!("light {}", light.index()),
+            ToString::to_string,
+        ),
+        light: placed.with_material(material),
+        color,
+        intensity,
+        range: light.range().map(f64::from),
+    })
 }
 
 /// An emitting face of a [`GltfScene`], as [`GltfScene::lights_with`] asks its weight.
@@ -160,10 +239,12 @@ pub struct Emitter<'a> {
 #[derive(Clone, Debug)]
 #[non_exhaustive]
 pub struct GltfLights {
-    /// The lights.
-    pub tree: LightTree<Quad<Triangle>>,
-    /// For each of `tree.lights()`, in order: the instance (its place in
+    /// The lights: the emitting faces, then the scene's punctual lights.
+    pub tree: LightTree<Light<Quad<Triangle>>>,
+    /// For each face of `tree.lights()`, in order: the instance (its place in
     /// [`GltfScene::instances`]) and the face (its number in the instance's mesh) it is.
+    /// The punctual lights follow: light `sources.len() + k` is
+    /// [`GltfScene::punctual`]`[k]`.
     pub sources: Vec<(usize, u32)>,
     /// For each light, its face's `TEXCOORD_0` in the order of the light's corners.
     uvs: Vec<Option<[DVec2; 3]>>,

@@ -55,6 +55,9 @@ pub struct GltfScene {
     pub images: Vec<Option<Arc<GltfImage>>>,
     /// The file's scenes, by name (or `scene N`), and which of them was read.
     pub scenes: Scenes,
+    /// The lights of `KHR_lights_punctual` on the scene's nodes, in the order the walk
+    /// meets them, in world space.
+    pub punctual: Vec<GltfPunctual>,
 }
 
 /// The scenes a glTF file holds, and which one [`load_gltf`] read (the file's default
@@ -119,6 +122,50 @@ impl GltfCamera {
     }
 }
 
+/// A light of glTF's `KHR_lights_punctual` (a point, spot or directional light) where its
+/// node puts it: the [`PunctualLight`](crate::PunctualLight) in world space (glTF's lights
+/// shine along their node's `-z`; a directional one is a sun), with what it emits.
+///
+/// Its light's [`MaterialId`](crate::MaterialId) is numbered after the scene's materials,
+/// `materials.len()` for the first light, one more for each next, so that a renderer's
+/// table of materials by id takes one emitter a light after its own
+/// ([`GltfPunctual::emitted`]).
+#[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
+pub struct GltfPunctual {
+    /// The node's name (or `node N`).
+    pub node: String,
+    /// The light's name (or `light N`).
+    pub name: String,
+    /// The light, in world space.
+    pub light: crate::PunctualLight,
+    /// Its linear RGB colour.
+    pub color: DVec3,
+    /// Its intensity: candela for a point or spot light, lux for a directional one.
+    pub intensity: f64,
+    /// Where the file gives one, the distance past which glTF lets a viewer treat the
+    /// light as out (a hint: the light itself falls off as the inverse square alone).
+    pub range: Option<f64>,
+}
+
+impl GltfPunctual {
+    /// What it emits, `color * intensity`: the value its samples' `pdf` divides (see
+    /// [`PunctualLight`](crate::PunctualLight)).
+    #[must_use]
+    pub fn emitted(&self) -> DVec3 {
+        self.color * self.intensity
+    }
+
+    /// Its power, for a [`LightTree`](crate::LightTree) beside the scene's emitting faces:
+    /// [`PunctualLight::power`](crate::PunctualLight::power) of its intensity times its
+    /// colour's Rec. 709 luminance.
+    #[must_use]
+    pub fn power(&self) -> f64 {
+        let luminance = self.color.dot(DVec3::new(0.2126, 0.7152, 0.0722));
+        self.light.power(luminance * self.intensity)
+    }
+}
+
 /// A glTF camera's projection.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Projection {
@@ -164,6 +211,15 @@ pub enum LeftOut {
     /// An extension the file uses (or requires) that changes only textures, shading or
     /// lights, which the loader does not interpret: a renderer may read it from the file.
     Extension(String),
+    /// A light of `KHR_lights_punctual` that cannot be placed: a spot's cone outside
+    /// glTF's bounds, an intensity or colour that is negative or not finite, a node whose
+    /// transform leaves it no position or direction.
+    Light {
+        /// The light's node's name (or `node N`).
+        node: String,
+        /// What is wrong.
+        error: GeometryError,
+    },
     /// An image a texture reads that is not decoded (a format the `image` crate does not
     /// read, KTX2 say, or a file that cannot be read), with the `gltf-images` feature; or
     /// a texture that names none. Lookups of it give white.
@@ -479,11 +535,11 @@ fn load(
         read: scene.as_ref().map(gltf::Scene::index),
         ..scenes
     };
-    let (instances, cameras) = nodes::place(
+    let (instances, cameras, punctual) = nodes::place(
         &document,
         &buffers,
-        &meshes,
-        &placed,
+        (&meshes, &placed),
+        materials.len(),
         scene,
         path,
         &mut left_out,
@@ -500,5 +556,6 @@ fn load(
         cameras,
         images,
         scenes,
+        punctual,
     })
 }

@@ -12,24 +12,28 @@ use glam::{DAffine3, DMat4, DQuat, DVec3};
 use gltf::accessor::{DataType, Dimensions};
 
 use super::accessors::check_accessor;
-use super::{GltfCamera, GltfInstance, GltfMesh, LeftOut, Projection};
+use super::{GltfCamera, GltfInstance, GltfMesh, GltfPunctual, LeftOut, Projection};
 use crate::load::{LoadError, LoadErrorKind};
 use crate::{GeometryError, Transformed};
 
-/// The instances and cameras of scene `scene` (the file's default scene, else its first,
-/// where `None`), in the order a depth-first walk in the file's order meets them.
+/// What the walk places: instances, cameras and lights.
+type Placed = (Vec<GltfInstance>, Vec<GltfCamera>, Vec<GltfPunctual>);
+
+/// The instances, cameras and lights of scene `scene` (the file's default scene, else its
+/// first, where `None`), in the order a depth-first walk in the file's order meets them;
+/// the lights' materials numbered from `first_light`.
 pub(super) fn place(
     document: &gltf::Document,
     buffers: &[gltf::buffer::Data],
-    meshes: &[GltfMesh],
-    placed: &[Vec<Option<usize>>],
+    (meshes, placed): (&[GltfMesh], &[Vec<Option<usize>>]),
+    first_light: usize,
     scene: Option<gltf::Scene>,
     path: &Path,
     left_out: &mut Vec<LeftOut>,
-) -> Result<(Vec<GltfInstance>, Vec<GltfCamera>), LoadError> {
-    let (mut instances, mut cameras) = (Vec::new(), Vec::new());
+) -> Result<Placed, LoadError> {
+    let (mut instances, mut cameras, mut punctual) = (Vec::new(), Vec::new(), Vec::new());
     let Some(scene) = scene else {
-        return Ok((instances, cameras));
+        return Ok((instances, cameras, punctual));
     };
     // A node met twice (a cycle, or two parents, which glTF forbids) is an error rather
     // than a walk without end.
@@ -59,6 +63,17 @@ pub(super) fn place(
         let world = parent * local;
         if let Some(camera) = node.camera() {
             cameras.push(camera_at(&camera, name.clone(), world));
+        }
+        if let Some(light) = node.light() {
+            let id =
+                crate::MaterialId(u32::try_from(first_light + punctual.len()).unwrap_or(u32::MAX));
+            match super::lights::punctual_at(&light, name.clone(), world, id) {
+                Ok(light) => punctual.push(light),
+                Err(error) => left_out.push(LeftOut::Light {
+                    node: name.clone(),
+                    error,
+                }),
+            }
         }
         if let Some(mesh) = node.mesh() {
             // `EXT_mesh_gpu_instancing`: the node's mesh at each instance's place, under
@@ -103,7 +118,7 @@ pub(super) fn place(
         let children: Vec<_> = node.children().collect();
         stack.extend(children.into_iter().rev().map(|c| (c, world)));
     }
-    Ok((instances, cameras))
+    Ok((instances, cameras, punctual))
 }
 
 /// A node's transform, parent from node: its matrix, or `T * R * S` of its translation,

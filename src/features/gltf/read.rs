@@ -10,6 +10,7 @@ use crate::load::{LoadError, LoadErrorKind};
 
 /// Extensions the loader interprets.
 const READ: &[&str] = &[
+    "KHR_lights_punctual",
     "KHR_materials_emissive_strength",
     "EXT_mesh_gpu_instancing",
     "KHR_texture_transform",
@@ -26,10 +27,7 @@ fn shading_only(name: &str) -> bool {
     ]
     .iter()
     .any(|prefix| name.starts_with(prefix))
-        || matches!(
-            name,
-            "KHR_lights_punctual" | "KHR_xmp_json_ld" | "EXT_lights_image_based"
-        )
+        || matches!(name, "KHR_xmp_json_ld" | "EXT_lights_image_based")
 }
 
 /// The document of `bytes` (a `.gltf`'s JSON or a `.glb`) and its buffers (from files

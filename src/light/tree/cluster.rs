@@ -96,7 +96,15 @@ impl Cluster {
         let f = e / m;
         let area = m * m * sqrt(DVec3::new(f.x * f.y, f.y * f.z, f.z * f.x).length_squared());
         let sides = if two_sided { 2.0 } else { 1.0 };
-        let exitance = power / (sides * area);
+        // A light of no area (a point light's box of no extent) has no bound on the
+        // irradiance it sends near it: `power / d^2` grows without one.
+        let exitance = if area > 0.0 {
+            power / (sides * area)
+        } else if power > 0.0 {
+            f64::INFINITY
+        } else {
+            0.0
+        };
         Ok(Self::with_spread(
             bbox, power, axis, spread, two_sided, exitance,
         ))

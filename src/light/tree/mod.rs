@@ -307,6 +307,12 @@ impl Emitters {
     pub(crate) fn tree(self) -> Result<LightTree<Quad<Triangle>>, GeometryError> {
         LightTree::new(self.faces, &self.powers, &self.emission)
     }
+
+    /// The lights gathered, their powers and emission.
+    #[cfg(feature = "gltf")]
+    pub(crate) fn into_parts(self) -> (Vec<Quad<Triangle>>, Vec<f64>, Vec<Emission>) {
+        (self.faces, self.powers, self.emission)
+    }
 }
 
 impl<T: PdfHittable> LightTree<T> {

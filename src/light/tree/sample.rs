@@ -338,7 +338,13 @@ impl<T: PdfHittable> LightTree<T> {
         }
         let one_sided = one_sided && normal.is_some();
         let c = self.choose(origin, normal, one_sided, u.x)?;
-        let direction = self.lights[c.light].sample_direction(origin, DVec2::new(c.rest, u.y));
+        let light = &self.lights[c.light];
+        let direction = light.sample_direction(origin, DVec2::new(c.rest, u.y));
+        if direction == DVec3::ZERO {
+            // A light of no density (a point, spot or sun) samples itself.
+            let u = DVec2::new(c.rest, u.y);
+            return crate::sample::delta_pick(light.sample_light(at, u), c.probability(), c.light);
+        }
         let known = c.leaf.map(|leaf| (leaf, c.walk));
         LightSample::along_with(self, at, direction, |d| {
             self.density_with(origin, normal, one_sided, d, known)
