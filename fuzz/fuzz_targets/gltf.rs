@@ -1,8 +1,8 @@
 //! A glTF file of arbitrary bytes (JSON or GLB, its buffers and images inline) loads or is
 //! a `LoadError`, never a panic; a scene that loads gives its instances as `Transformed`
 //! and as `objects` (the loader left out every node that places nothing), every face by
-//! its number, its lights, and the surface at a hit and at a light's sample (with a
-//! texture lookup there), without a panic.
+//! its number, its lights (the faces' and the punctual ones), and the surface at a hit
+//! and at a light's sample (with a texture lookup there), without a panic.
 
 #![no_main]
 
@@ -52,7 +52,14 @@ fuzz_target!(|data: &[u8]| {
     if let Ok(Some(lights)) = scene.textured_lights() {
         let at = ShadingContext::on_surface(DVec3::ZERO, DVec3::Y);
         for u in [DVec2::new(0.3, 0.6), DVec2::new(0.9, 0.1)] {
-            if let Some(sample) = lights.sample_light(&at, u) {
+            let Some(sample) = lights.sample_light(&at, u) else {
+                continue;
+            };
+            if sample.delta {
+                // A punctual light's, named by its place after the faces.
+                let k = sample.light - lights.sources.len();
+                assert_eq!(sample.record.material, scene.punctual[k].light.material());
+            } else {
                 assert!(scene.surface(&sample.record).is_some());
             }
         }

@@ -8,8 +8,10 @@
 
 #![no_main]
 
+use std::sync::Arc;
+
 use hitkit::glam::DVec2;
-use hitkit::{Hittable, Interval, LightTree, PdfHittable, Ray, ShadingContext};
+use hitkit::{Hittable, Interval, LightTree, Mixture, PdfHittable, Ray, ShadingContext};
 use hitkit_fuzz::LightInput;
 use libfuzzer_sys::fuzz_target;
 
@@ -79,4 +81,64 @@ fuzz_target!(|input: LightInput| {
             assert_eq!(hit.map(|h| h.t), Some(sample.distance), "{sample:?}");
         }
     }
+    punctual(&input, light, &at);
 });
+
+/// A point, spot or sun alone and beside the light in a `LightTree`, a `Mixture` and a
+/// list: every sample a delta one names is the punctual light's (finite, positive `pdf`,
+/// a unit direction, a positive distance, finite but for a sun's), and every other the
+/// light's, found at its distance; no density is NaN.
+fn punctual(input: &LightInput, light: Arc<dyn PdfHittable>, at: &ShadingContext) {
+    let Some(p) = input.punctual.and_then(|p| p.light()) else {
+        return;
+    };
+    let both: Vec<Arc<dyn PdfHittable>> = vec![light, Arc::new(p)];
+    let tree = LightTree::from_lights(both.clone(), &[1.0, 1.0]).ok();
+    let mixture = Mixture::new(both.clone(), &[1.0, 1.0]).ok();
+    for &(x, y) in input.samples.iter().take(8).chain(&[(0, 0)]) {
+        let u = DVec2::new(unit(x), unit(y));
+        let samples = [
+            p.sample_light(at, u).map(|s| (s, None)),
+            tree.as_ref().and_then(|t| {
+                t.sample_light(at, u)
+                    .map(|s| (s, Some(t as &dyn PdfHittable)))
+            }),
+            tree.as_ref().and_then(|t| {
+                t.sample_light_reflecting(at, u)
+                    .map(|s| (s, Some(t as &dyn PdfHittable)))
+            }),
+            mixture.as_ref().and_then(|m| {
+                m.sample_light(at, u)
+                    .map(|s| (s, Some(m as &dyn PdfHittable)))
+            }),
+            both.sample_light(at, u)
+                .map(|s| (s, Some(&both as &dyn PdfHittable))),
+        ];
+        for (sample, of) in samples.into_iter().flatten() {
+            assert!(sample.pdf > 0.0 && sample.pdf.is_finite(), "{sample:?}");
+            assert!(sample.direction.is_finite(), "{sample:?}");
+            if let Some(of) = of {
+                let density = of.light_pdf(at, sample.direction);
+                assert!(
+                    density.is_finite() && density >= 0.0,
+                    "{sample:?}: {density}"
+                );
+            }
+            if sample.delta {
+                assert!(of.is_none() || sample.light == 1, "{sample:?}");
+                assert!(
+                    (sample.direction.length() - 1.0).abs() < 1e-12,
+                    "{sample:?}"
+                );
+                let sun = p.position().is_none();
+                assert!(
+                    sample.distance > 0.0 && (sun || sample.distance.is_finite()),
+                    "{sample:?}"
+                );
+                continue;
+            }
+            assert_eq!(sample.light, 0, "{sample:?}");
+            assert!(sample.distance.is_finite(), "{sample:?}");
+        }
+    }
+}

@@ -11,8 +11,8 @@ pub mod seed;
 use arbitrary::{Arbitrary, Result, Unstructured};
 use hitkit::glam::{DAffine3, DMat3, DQuat, DVec3};
 use hitkit::{
-    Cuboid, Disk, HitRecord, Hittable, Interval, Parallelogram, PdfHittable, Quad, Ray, Ring,
-    Sphere, Transformed, Triangle,
+    Cuboid, Disk, HitRecord, Hittable, Interval, Parallelogram, PdfHittable, PunctualLight, Quad,
+    Ray, Ring, Sphere, Transformed, Triangle,
 };
 
 /// A number as scenes make them, or any bit pattern.
@@ -306,6 +306,30 @@ pub struct LightInput {
     pub origin: V,
     pub normal: Option<V>,
     pub samples: Vec<(u16, u16)>,
+    /// A point, spot or sun beside the light.
+    pub punctual: Option<Punctual>,
+}
+
+/// A [`PunctualLight`] from arbitrary numbers: `kind` picks point, spot or sun.
+#[derive(Clone, Copy, Debug, Arbitrary)]
+pub struct Punctual {
+    pub kind: u8,
+    pub position: V,
+    pub direction: V,
+    pub inner: Num,
+    pub outer: Num,
+}
+
+impl Punctual {
+    /// The light, where its constructor takes the numbers.
+    pub fn light(&self) -> Option<PunctualLight> {
+        let (p, d) = (self.position.get(), self.direction.get());
+        match self.kind % 3 {
+            0 => PunctualLight::point(p).ok(),
+            1 => PunctualLight::spot(p, d, self.inner.0, self.outer.0).ok(),
+            _ => PunctualLight::sun(d).ok(),
+        }
+    }
 }
 
 /// The closest hit among `objects` by asking each in turn (ties to the lower index), and
