@@ -563,3 +563,94 @@ fn bad_input_is_an_error() {
     let (ray, range) = hit.spawn_ray_to(&s.record);
     assert!(ray.direction == DVec3::Y && range == Interval::FORWARD);
 }
+
+/// Through an instance, a punctual light moves with the map: under a rigid one it samples
+/// as the same light placed in the world does (a point, a spot turned with it, a sun
+/// turned), its `pdf` within a few ulps; under a scale, its position is the mapped one
+/// and its falloff its own.
+#[test]
+fn an_instance_moves_a_punctual_light() {
+    use hitkit::Transformed;
+    use hitkit::glam::DQuat;
+    let turn = DQuat::from_axis_angle(DVec3::new(1.0, 2.0, 0.5).normalize(), 0.7);
+    let shift = DVec3::new(1e6 + 0.3, -2.5, 7.0);
+    let local_spot =
+        PunctualLight::spot(DVec3::new(0.5, 2.0, 0.0), DVec3::NEG_Y, 0.2, 0.9).unwrap();
+    let cases = [
+        (
+            PunctualLight::point(DVec3::new(0.5, 2.0, 0.0)).unwrap(),
+            PunctualLight::point(turn * DVec3::new(0.5, 2.0, 0.0) + shift).unwrap(),
+        ),
+        (
+            local_spot,
+            PunctualLight::spot(
+                turn * DVec3::new(0.5, 2.0, 0.0) + shift,
+                turn * DVec3::NEG_Y,
+                0.2,
+                0.9,
+            )
+            .unwrap(),
+        ),
+        (
+            PunctualLight::sun(DVec3::new(0.3, -1.0, 0.1)).unwrap(),
+            PunctualLight::sun(turn * DVec3::new(0.3, -1.0, 0.1)).unwrap(),
+        ),
+    ];
+    let mut rng = SplitMix::new(21);
+    for (local, world) in cases {
+        let placed = Transformed::new(local.with_material(MaterialId(4)), turn, shift)
+            .unwrap()
+            .with_instance_id(9);
+        for _ in 0..200 {
+            let at = shift
+                + turn * DVec3::new(rng.next_f64() * 2.0 - 1.0, 0.0, rng.next_f64() * 2.0 - 1.0);
+            let ctx = ShadingContext::at(at);
+            let (a, b) = (
+                placed.sample_light(&ctx, DVec2::ZERO),
+                world.sample_light(&ctx, DVec2::ZERO),
+            );
+            let (Some(a), Some(b)) = (a, b) else {
+                // Both or neither: only a spot's edge, where a few ulps decide, may differ.
+                assert!(
+                    a.is_none() && b.is_none() || local == local_spot,
+                    "{a:?} {b:?}"
+                );
+                continue;
+            };
+            // The two positions are rounded apart (the instance's matrix against the
+            // quaternion), each within a few ulps of the 1e6 shift: 4 ulps is 1e-9 at a
+            // distance of at least 1.5, twice that in the squared distance the `pdf` holds.
+            assert!(
+                a.delta && (a.pdf - b.pdf).abs() <= 4e-9 * b.pdf,
+                "{a:?} {b:?}"
+            );
+            assert!((a.direction - b.direction).length() < 2e-9, "{a:?} {b:?}");
+            assert_eq!(
+                (a.record.material, a.record.instance),
+                (MaterialId(4), Some(9))
+            );
+        }
+    }
+    // Scaled by 3 about the origin: the point light 3 times as far, the same falloff.
+    let scaled = Transformed::affine(
+        PunctualLight::point(DVec3::Y).unwrap(),
+        hitkit::glam::DAffine3::from_scale(DVec3::splat(3.0)),
+    )
+    .unwrap();
+    let s = scaled
+        .sample_light(&ShadingContext::at(DVec3::ZERO), DVec2::ZERO)
+        .unwrap();
+    assert_eq!(
+        (s.record.point, s.distance, s.pdf),
+        (DVec3::new(0.0, 3.0, 0.0), 3.0, 9.0)
+    );
+    // In a tree, an instanced lamp is picked and sampled as any light.
+    let tree = LightTree::from_lights(vec![scaled, scaled], &[1.0, 1.0]).unwrap();
+    let s = tree
+        .sample_light(&ShadingContext::at(DVec3::ZERO), DVec2::new(0.7, 0.2))
+        .unwrap();
+    assert!(
+        s.delta && (s.pdf - 4.5).abs() < 1e-12 && s.light == 1,
+        "{s:?}"
+    );
+}

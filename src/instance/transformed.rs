@@ -7,8 +7,11 @@ use super::frame::{Affine, Frame, Rigid};
 use crate::instance;
 use crate::math::{direction_scale, gamma, ordinary, sin_cos};
 use crate::record::{Found, Made};
-use crate::sample::{reaching, toward_middle};
-use crate::{Aabb, Emission, GeometryError, HitRecord, Hittable, Interval, PdfHittable, Ray};
+use crate::sample::{direction_of, reaching, toward_middle};
+use crate::{
+    Aabb, Emission, GeometryError, HitRecord, Hittable, Interval, LightSample, PdfHittable, Ray,
+    ShadingContext,
+};
 
 /// `object` moved: rotated about the origin (or any invertible linear map, see
 /// [`Transformed::affine`]), then translated. Rays are taken into the object's space (`t`
@@ -442,6 +445,50 @@ impl<T: PdfHittable, F: Frame> PdfHittable for Transformed<T, F> {
             },
             |d| self.pdf_value(origin, d) > 0.0,
         )
+    }
+
+    /// The provided sample (the direction [`sample_direction`](PdfHittable::sample_direction)
+    /// draws, its surface found along it); for an object of no density (a
+    /// [`PunctualLight`](crate::PunctualLight), whose direction is the zero vector), its own
+    /// delta sample in its space, moved to the world: its point under the map, the
+    /// direction and distance measured there, its falloff its own (its `pdf` over its
+    /// squared distance); a sun's direction turned by the map.
+    fn sample_light(&self, at: &ShadingContext, u: DVec2) -> Option<LightSample> {
+        let direction = self.sample_direction(at.point, u);
+        if direction != DVec3::ZERO {
+            return LightSample::along(self, at, direction);
+        }
+        let from = ShadingContext::at(self.point_to_object(at.point));
+        let local = self.object.sample_light(&from, u).filter(|s| s.delta)?;
+        let (point, distance, pdf) = if local.distance == f64::INFINITY {
+            let direction = direction_of(self.frame.to_world(local.direction))?;
+            (direction, f64::INFINITY, local.pdf)
+        } else {
+            let point = self.frame.to_world(local.record.point) + self.translation;
+            let distance = crate::math::length(point - at.point);
+            let per_square = local.pdf / (local.distance * local.distance);
+            (point, distance, distance * distance * per_square)
+        };
+        let direction = if distance == f64::INFINITY {
+            point
+        } else {
+            direction_of(point - at.point)?
+        };
+        if !(pdf > 0.0 && pdf.is_finite() && distance > 0.0) {
+            return None;
+        }
+        let ray = Ray::new(at.point, direction);
+        let mut record = HitRecord::new(&ray, distance, point, -direction);
+        record.material = local.record.material;
+        record.instance = self.instance.or(local.record.instance);
+        Some(LightSample {
+            direction,
+            distance,
+            record,
+            pdf,
+            light: local.light,
+            delta: true,
+        })
     }
 
     #[inline]

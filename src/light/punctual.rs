@@ -34,8 +34,9 @@ use crate::{
 /// density, so an estimate made with those two stays unbiased for those lights and
 /// leaves the punctual ones to `sample_light`.
 ///
-/// Placed in world space (a position and a direction): through an instance
-/// ([`Transformed`](crate::Transformed)) it gives no sample.
+/// Through an instance ([`Transformed`](crate::Transformed)) it moves with the map: its
+/// position mapped, a spot's cone and falloff its own (the falloff taken in its own
+/// space), a sun's direction turned.
 ///
 /// ```
 /// use hitkit::glam::{DVec2, DVec3};
