@@ -2,7 +2,8 @@
 //! `hitkit_render::pbrt_lights`) and the power mixture, on halls of many lamps seen from
 //! the floor: the variance of each sampler's choice of lamp across units of length, and
 //! the relative mean squared error times time of next-event estimation of the floor's
-//! irradiance.
+//! irradiance. With `--picks`, the pick alone: nanoseconds a pick of the tree and of
+//! pbrt-v4's sampler.
 
 use std::hint::black_box;
 use std::time::Instant;
@@ -161,41 +162,27 @@ pub(super) fn estimate_rows(args: &Args) -> Vec<String> {
                 let mut results: [Vec<(f64, f64)>; 4] = Default::default();
                 for run in 0..args.runs {
                     let seed = args.seed.wrapping_add(run as u64);
-                    results[0].push(error_and_time(
-                        &lamps,
-                        &points,
-                        &exact,
-                        spp,
-                        seed,
-                        |at, u| t.pick(at, u).map(|p| (p.light, p.probability, p.rest)),
-                    ));
-                    results[1].push(error_and_time(
-                        &lamps,
-                        &points,
-                        &exact,
-                        spp,
-                        seed,
-                        |at, u| b.pick(at, u),
-                    ));
-                    results[2].push(error_and_time(
-                        &lamps,
-                        &points,
-                        &exact,
-                        spp,
-                        seed,
-                        |_, u| mixture.pick(u).map(|p| (p.light, p.probability, p.rest)),
-                    ));
-                    results[3].push(error_and_time(
-                        &lamps,
-                        &points,
-                        &exact,
-                        spp,
-                        seed,
-                        |at, u| {
-                            t.pick_reflecting(at, u)
-                                .map(|p| (p.light, p.probability, p.rest))
-                        },
-                    ));
+                    // Each run starts with another sampler, so that none is always the
+                    // first after the exact irradiance's computation.
+                    for k in 0..4 {
+                        let which = (k + run) % 4;
+                        let measured = match which {
+                            0 => error_and_time(&lamps, &points, &exact, spp, seed, |at, u| {
+                                t.pick(at, u).map(|p| (p.light, p.probability, p.rest))
+                            }),
+                            1 => error_and_time(&lamps, &points, &exact, spp, seed, |at, u| {
+                                b.pick(at, u)
+                            }),
+                            2 => error_and_time(&lamps, &points, &exact, spp, seed, |_, u| {
+                                mixture.pick(u).map(|p| (p.light, p.probability, p.rest))
+                            }),
+                            _ => error_and_time(&lamps, &points, &exact, spp, seed, |at, u| {
+                                t.pick_reflecting(at, u)
+                                    .map(|p| (p.light, p.probability, p.rest))
+                            }),
+                        };
+                        results[which].push(measured);
+                    }
                 }
                 let summary: Vec<(f64, f64)> = results
                     .iter()
@@ -250,4 +237,81 @@ pub(super) fn print(args: &Args) {
     println!("| hall | lamps | spp | sampler | rel. MSE | ms | MSE x ms | vs pbrt-v4 |");
     println!("|---|---:|---:|---|---:|---:|---:|---:|");
     estimate_rows(args).iter().for_each(|r| println!("{r}"));
+}
+
+/// Floor points and picks at each for `--picks`.
+const PICK_POINTS: usize = 200;
+const PICKS: usize = 500;
+
+/// `PICKS` picks of the tree at each point (`u` spread over `[0, 1)`): a function of its
+/// own, for callgrind's `--toggle-collect=*tree_picks*`.
+#[inline(never)]
+fn tree_picks(tree: &hitkit::LightTree<hitkit::Quad>, points: &[ShadingContext]) -> f64 {
+    let mut sum = 0.0;
+    for (i, at) in points.iter().enumerate() {
+        for j in 0..PICKS {
+            let u = ((i * 7919 + j * 104_729) % 100_000) as f64 / 100_000.0;
+            if let Some(p) = tree.pick(at, u) {
+                sum += p.probability + p.light as f64;
+            }
+        }
+    }
+    sum
+}
+
+/// [`tree_picks`] of pbrt-v4's sampler (`--toggle-collect=*pbrt_picks*`).
+#[inline(never)]
+fn pbrt_picks(b: &hitkit_render::pbrt_lights::PbrtLightBvh, points: &[ShadingContext]) -> f64 {
+    let mut sum = 0.0;
+    for (i, at) in points.iter().enumerate() {
+        for j in 0..PICKS {
+            let u = ((i * 7919 + j * 104_729) % 100_000) as f64 / 100_000.0;
+            if let Some((light, p, _)) = b.pick(at, u) {
+                sum += p + light as f64;
+            }
+        }
+    }
+    sum
+}
+
+/// `--halls --picks`: nanoseconds a pick, the tree's and pbrt-v4's, medians of `args.runs`
+/// in alternation (each run starting with the other), and their ratio.
+pub(super) fn print_picks(args: &Args) {
+    println!(
+        "{}; single-threaded; {PICK_POINTS} floor points (wall points for the walls hall), {PICKS} picks each; median of {} runs in alternation\n",
+        workloads::machine(),
+        args.runs
+    );
+    println!("| hall | lamps | tree ns a pick | pbrt-v4 ns a pick | tree / pbrt |");
+    println!("|---|---:|---:|---:|---:|");
+    for hall in chosen(args) {
+        for n in COUNTS {
+            let lamps = halls::lamps(hall, n, 1.0, args.seed);
+            let points = halls::points(hall, PICK_POINTS, 1.0, args.seed);
+            let (t, b) = (lamps.tree(), lamps.pbrt());
+            let (mut tree, mut pbrt) = (Vec::new(), Vec::new());
+            for run in 0..args.runs.max(1) {
+                for k in 0..2 {
+                    let start = Instant::now();
+                    if (k + run) % 2 == 0 {
+                        black_box(tree_picks(&t, &points));
+                        tree.push(start.elapsed().as_secs_f64());
+                    } else {
+                        black_box(pbrt_picks(&b, &points));
+                        pbrt.push(start.elapsed().as_secs_f64());
+                    }
+                }
+            }
+            let median = |v: &mut Vec<f64>| {
+                v.sort_by(f64::total_cmp);
+                v[v.len() / 2] * 1e9 / (PICK_POINTS * PICKS) as f64
+            };
+            let (a, c) = (median(&mut tree), median(&mut pbrt));
+            println!(
+                "| {} | {n} | {a:.1} | {c:.1} | {:.2}x |",
+                hall.name(),
+                a / c
+            );
+        }
+    }
 }

@@ -60,6 +60,8 @@ Options:
                  and 10,000 lamps: the variance of the choice of lamp at units of length
                  0.01 to 100, and relative MSE x time of next-event estimation from the
                  floor at 16 and 64 samples per point
+  --picks        with --halls: instead of its tables, nanoseconds a pick alone, the tree's
+                 and pbrt-v4's (functions of their own, for callgrind's --toggle-collect)
   --triad        instead of the tables above, what a path tracer traces: primary rays
                  from a camera, a cosine bounce and a shadow ray to a lamp from each
                  primary hit, on the bunny, the book's Cornell box (its lamp inside, and
@@ -95,6 +97,7 @@ struct Args {
     updates: bool,
     lights: bool,
     halls: bool,
+    picks: bool,
     triad: bool,
     crowd: usize,
     /// With `--triad`: time only the libraries, and keep only the scenes, whose names
@@ -173,6 +176,7 @@ fn parse_args(mut args: impl Iterator<Item = String>) -> Result<Option<Args>, St
         updates: false,
         lights: false,
         halls: false,
+        picks: false,
         triad: false,
         crowd: 9,
         only: None,
@@ -204,6 +208,10 @@ fn parse_args(mut args: impl Iterator<Item = String>) -> Result<Option<Args>, St
         }
         if flag == "--halls" {
             parsed.halls = true;
+            continue;
+        }
+        if flag == "--picks" {
+            parsed.picks = true;
             continue;
         }
         if flag == "--triad" {
@@ -943,6 +951,10 @@ fn main() -> ExitCode {
     }
     if args.lights {
         lights::print(&lights::run(&args), &args);
+        return ExitCode::SUCCESS;
+    }
+    if args.halls && args.picks {
+        halls::print_picks(&args);
         return ExitCode::SUCCESS;
     }
     if args.halls {

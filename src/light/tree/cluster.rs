@@ -39,9 +39,22 @@ pub(super) struct Cluster {
 #[inline]
 pub(super) fn share(a: f64, b: f64) -> Option<f64> {
     let sum = a + b;
-    if sum > 0.0 && sum.is_finite() {
+    if sum > 0.0 && sum < f64::INFINITY {
         Some(a / sum)
-    } else if a.is_infinite() || b.is_infinite() {
+    } else {
+        share_rare(a, b)
+    }
+}
+
+/// [`share`] where the sum is 0, infinite or not a number: apart from the common case, which
+/// then compiles to two comparisons and a division (the walk built into a small program of
+/// its own picked 20% faster so, with 4% fewer instructions; in `hitkit-peers --halls
+/// --picks`, within its noise).
+#[cold]
+#[inline(never)]
+fn share_rare(a: f64, b: f64) -> Option<f64> {
+    let sum = a + b;
+    if a.is_infinite() || b.is_infinite() {
         Some(match (a.is_infinite(), b.is_infinite()) {
             (true, true) => 0.5,
             (true, false) => 1.0,
@@ -56,7 +69,8 @@ pub(super) fn share(a: f64, b: f64) -> Option<f64> {
 }
 
 /// `(cos, sin)` of `max(0, x - y)` for angles `x` and `y` in `[0, PI]` given by their cosines
-/// and sines (`x`'s sine found only where it is needed).
+/// and sines (`x`'s sine found only where it is needed: tried without the branch, the sine
+/// always found, picks 3% to 10% slower on every hall of `hitkit-peers --halls --picks`).
 #[inline]
 pub(super) fn minus_clamped(
     cos_x: f64,
