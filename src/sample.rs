@@ -223,4 +223,12 @@ pub enum Emission {
     OneSide(DVec3),
     /// From both sides of a surface normal to the given vector.
     BothSides(DVec3),
+    /// From one side, within `angle` radians of `axis` and nothing beyond (a spot light's
+    /// cone, as pbrt-v4 bounds it): at most a right angle wide.
+    Cone {
+        /// The direction at the cone's middle.
+        axis: DVec3,
+        /// Its half-angle, in `(0, PI / 2]`.
+        angle: f64,
+    },
 }

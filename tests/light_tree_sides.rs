@@ -104,7 +104,7 @@ proptest! {
                     m.normalize().dot(p - centre) > 0.1 * (b.max() - b.min()).length()
                         + 1e-3 * (p - centre).length()
                 }
-                Emission::BothSides(_) => false,
+                Emission::BothSides(_) | Emission::Cone { .. } => false,
             };
             if wholly_below(light.as_ref(), p, n) && faces_p {
                 prop_assert!(probability > 0.0, "light {} below the horizon, facing {}", i, p);

@@ -506,6 +506,18 @@ fn a_reflecting_surface_never_picks_a_lamp_behind_it() {
         let s = tree.sample_light_reflecting(&floor, u).unwrap();
         assert_eq!((s.light, s.delta), (1, true));
     }
+    // A tree bounds a spot by its cone: one whose cone misses the floor point (though the
+    // point lies on the side its axis faces) is never picked there.
+    let aside = PunctualLight::spot(DVec3::Y, DVec3::X, 0.1, 0.2).unwrap();
+    let tree = LightTree::from_lights(vec![aside, over], &[1.0, 1.0]).unwrap();
+    assert_eq!(tree.probability(&floor, 0), 0.0);
+    assert_eq!(
+        tree.lights()[0].emission(),
+        Emission::Cone {
+            axis: DVec3::X,
+            angle: 0.2
+        }
+    );
     // A spot seen from outside its cone gives no sample; so does its own position.
     let spot = PunctualLight::spot(DVec3::Y, DVec3::X, 0.1, 0.2).unwrap();
     assert!(spot.sample_light(&floor, DVec2::ZERO).is_none());
@@ -553,6 +565,23 @@ fn bad_input_is_an_error() {
         assert!(spot(inner, outer).is_err(), "{inner} {outer}");
     }
     assert!(PunctualLight::spot(DVec3::ZERO, DVec3::ZERO, 0.1, 0.2).is_err());
+    // A cone the tree cannot bound.
+    let quad = || Quad::new(DVec3::ZERO, DVec3::X, DVec3::Z).unwrap();
+    for angle in [0.0, 2.0, f64::NAN] {
+        let cone = Emission::Cone {
+            axis: DVec3::Y,
+            angle,
+        };
+        assert!(matches!(
+            LightTree::new(vec![quad()], &[1.0], &[cone]),
+            Err(GeometryError::InvalidParameter { .. })
+        ));
+    }
+    let zero = Emission::Cone {
+        axis: DVec3::ZERO,
+        angle: 0.5,
+    };
+    assert!(LightTree::new(vec![quad()], &[1.0], &[zero]).is_err());
     // What a record at infinity makes of a hit whose ray is not valid: an empty range.
     let r = Ray::new(DVec3::ZERO, DVec3::Y);
     let hit = HitRecord::new(&r, 1.0, DVec3::Y, DVec3::NEG_Y);

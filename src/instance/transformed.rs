@@ -505,7 +505,8 @@ impl<T: PdfHittable, F: Frame> PdfHittable for Transformed<T, F> {
 
     /// The object's emission with its normal in world space: by the inverse transpose
     /// (`n . M^-1 e_j` for each axis `e_j`), which keeps the side of the front face under a
-    /// mirror as the instance's hits report it; [`Emission::Everywhere`] where that normal
+    /// mirror as the instance's hits report it (a cone: the side of its axis, which bounds it
+    /// under any map); [`Emission::Everywhere`] where that normal
     /// is not a finite, non-zero vector (a map of extreme condition).
     fn emission(&self) -> Emission {
         let to_world = |n: DVec3| {
@@ -521,6 +522,11 @@ impl<T: PdfHittable, F: Frame> PdfHittable for Transformed<T, F> {
             Emission::Everywhere => Emission::Everywhere,
             Emission::OneSide(n) => to_world(n).map_or(Emission::Everywhere, Emission::OneSide),
             Emission::BothSides(n) => to_world(n).map_or(Emission::Everywhere, Emission::BothSides),
+            // A linear map turns a cone into one of another shape, but keeps the half-space
+            // it lies in: the half-space bounds it.
+            Emission::Cone { axis, .. } => {
+                to_world(axis).map_or(Emission::Everywhere, Emission::OneSide)
+            }
         }
     }
 }

@@ -82,6 +82,7 @@ enum Kind {
         axis: DVec3,
         cos_inner: f64,
         cos_outer: f64,
+        outer: f64,
     },
     /// At infinity, its light travelling along the unit vector.
     Sun(DVec3),
@@ -136,6 +137,7 @@ impl PunctualLight {
             axis,
             cos_inner: sin_cos(inner).1,
             cos_outer: sin_cos(outer).1,
+            outer,
         }))
     }
 
@@ -347,11 +349,10 @@ impl PdfHittable for PunctualLight {
         0.0
     }
 
-    /// Every way for a point light and a sun; a spot, within the hemisphere about its axis
-    /// (its cone lies in it: glTF's cone is at most a right angle wide).
+    /// Every way for a point light and a sun; a spot, its outer cone.
     fn emission(&self) -> Emission {
         match self.kind {
-            Kind::Spot { axis, .. } => Emission::OneSide(axis),
+            Kind::Spot { axis, outer, .. } => Emission::Cone { axis, angle: outer },
             Kind::Point(_) | Kind::Sun(_) => Emission::Everywhere,
         }
     }

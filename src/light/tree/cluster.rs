@@ -2,7 +2,7 @@
 //! their normals and their exitance; the importance, an estimate of the light they can send
 //! to a point (Conty Estevez and Kulla 2018).
 
-use core::f64::consts::PI;
+use core::f64::consts::{FRAC_PI_2, PI};
 
 use glam::DVec3;
 
@@ -25,6 +25,9 @@ pub(super) struct Cluster {
     pub(super) sin_spread: f64,
     /// Whether a light emits on both sides of its normal.
     pub(super) two_sided: bool,
+    /// The cosine of the widest angle from its normal at which any light emits: 0 for a
+    /// diffuse one, more for a cone ([`Emission::Cone`]).
+    pub(super) cos_emit: f64,
     /// The sum of the lights' exitances (each one's power over the area its box allows
     /// it, per side): a bound on the irradiance the lights can send to any point.
     pub(super) exitance: f64,
@@ -94,7 +97,7 @@ pub(super) fn sine(cos: f64) -> f64 {
 impl Cluster {
     /// One light's bounds.
     pub(super) fn of(bbox: Aabb, power: f64, emission: Emission) -> Result<Self, GeometryError> {
-        let (axis, spread, two_sided) = checked(power, emission)?;
+        let (axis, spread, two_sided, cos_emit) = checked(power, emission)?;
         if !bbox.is_bounded() || bbox.is_empty() {
             return Err(GeometryError::InvalidParameter {
                 what: "light's bounding box extent",
@@ -119,9 +122,10 @@ impl Cluster {
         } else {
             0.0
         };
-        Ok(Self::with_spread(
-            bbox, power, axis, spread, two_sided, exitance,
-        ))
+        Ok(Self {
+            cos_emit,
+            ..Self::with_spread(bbox, power, axis, spread, two_sided, exitance)
+        })
     }
 
     pub(super) fn with_spread(
@@ -141,6 +145,7 @@ impl Cluster {
             cos_spread,
             sin_spread: sin_spread.max(0.0),
             two_sided,
+            cos_emit: 0.0,
             exitance,
             near2: near2(bbox, power, exitance),
         }
@@ -158,6 +163,7 @@ impl Cluster {
             (true, true) => (other, self),
         };
         let two_sided = a.two_sided || b.two_sided;
+        let cos_emit = a.cos_emit.min(b.cos_emit);
         let exitance = self.exitance + other.exitance;
         // `b`'s cone inside `a`'s (the wider): the angle between their axes at most the
         // difference of their spreads, compared by cosines, without a trigonometric call
@@ -168,6 +174,7 @@ impl Cluster {
             bbox,
             power,
             two_sided,
+            cos_emit,
             exitance,
             near2: near2(bbox, power, exitance),
             ..*a
@@ -188,9 +195,15 @@ impl Cluster {
                 // a.spread`.
                 let (sin, cos) = sin_cos(spread - a.spread);
                 let axis = (a.axis * cos + k.cross(a.axis) * sin).normalize();
-                Self::with_spread(bbox, power, axis, spread, two_sided, exitance)
+                Self {
+                    cos_emit,
+                    ..Self::with_spread(bbox, power, axis, spread, two_sided, exitance)
+                }
             }
-            _ => Self::with_spread(bbox, power, a.axis, PI, two_sided, exitance),
+            _ => Self {
+                cos_emit,
+                ..Self::with_spread(bbox, power, a.axis, PI, two_sided, exitance)
+            },
         }
     }
 
@@ -230,8 +243,12 @@ impl Cluster {
         } else {
             self.sphere_cosines::<ONE_SIDED>(from_centre, d2, normal)
         };
-        // Diffuse emitters send nothing at 90 degrees from their normal and beyond.
-        if least <= 0.0 {
+        // Diffuse emitters send nothing at 90 degrees from their normal and beyond, a cone
+        // nothing past its angle.
+        // (Against a field where it was the constant 0: the edge-on hall's picks 3% slower in
+        // `hitkit-peers --halls --picks`, the same with the field an `f32` beside
+        // `two_sided`, the node kept at 136 bytes.)
+        if least <= self.cos_emit {
             return 0.0;
         }
         let importance = self.power * least * seen / d2.max(self.near2);
@@ -351,9 +368,12 @@ impl Cluster {
     }
 }
 
-/// A light's power and emission checked: its cone of normals (axis, spread) and whether it
-/// emits on both sides.
-pub(super) fn checked(power: f64, emission: Emission) -> Result<(DVec3, f64, bool), GeometryError> {
+/// A light's power and emission checked: its cone of normals (axis, spread), whether it
+/// emits on both sides, and the cosine of the widest angle from its normal it emits at.
+pub(super) fn checked(
+    power: f64,
+    emission: Emission,
+) -> Result<(DVec3, f64, bool, f64), GeometryError> {
     if !power.is_finite() {
         return Err(GeometryError::NonFinite { what: "power" });
     }
@@ -365,9 +385,20 @@ pub(super) fn checked(power: f64, emission: Emission) -> Result<(DVec3, f64, boo
         });
     }
     Ok(match emission {
-        Emission::Everywhere => (DVec3::Z, PI, false),
-        Emission::OneSide(normal) => (emission_normal(normal)?, 0.0, false),
-        Emission::BothSides(normal) => (emission_normal(normal)?, 0.0, true),
+        Emission::Everywhere => (DVec3::Z, PI, false, 0.0),
+        Emission::OneSide(normal) => (emission_normal(normal)?, 0.0, false, 0.0),
+        Emission::BothSides(normal) => (emission_normal(normal)?, 0.0, true, 0.0),
+        Emission::Cone { axis, angle } => {
+            if !(angle > 0.0 && angle <= FRAC_PI_2) {
+                return Err(GeometryError::InvalidParameter {
+                    what: "emission cone angle",
+                    value: angle,
+                    domain: "(0, PI / 2]",
+                });
+            }
+            let cos = sin_cos(angle).1.max(0.0);
+            (emission_normal(axis)?, 0.0, false, cos)
+        }
     })
 }
 

@@ -126,7 +126,8 @@ impl<T: PdfHittable> LightTree<T> {
     /// [`GeometryError::LengthMismatch`] if `powers` or `emission` differ in length from
     /// `lights`; [`GeometryError::NonFinite`] for a NaN or infinite power, or an emission
     /// normal that is not finite; [`GeometryError::InvalidParameter`] for a negative power,
-    /// for powers all 0, or for a light whose bounding box is empty;
+    /// for powers all 0, for a light whose bounding box is empty, or for an emission cone
+    /// whose angle is not in `(0, PI / 2]`;
     /// [`GeometryError::ZeroVector`] for an emission normal of length 0.
     ///
     /// # Panics
@@ -630,7 +631,7 @@ mod tests {
         #[test]
         fn a_cluster_of_importance_0_cannot_light_the_point(
             lights in prop::collection::vec((
-                0u8..3,
+                0u8..4,
                 prop::array::uniform3(-3.0f64..3.0),
                 0.1f64..2.0,
                 prop::array::uniform3(-1.0f64..1.0),
@@ -649,7 +650,9 @@ mod tests {
                 let emission = match kind {
                     0 => Emission::OneSide(u.cross(v)),
                     1 => Emission::BothSides(u.cross(v)),
-                    _ => Emission::Everywhere,
+                    2 => Emission::Everywhere,
+                    // A cone of 0.1 to 1.5 radians.
+                    _ => Emission::Cone { axis: u.cross(v), angle: 0.1 + 0.7 * size },
                 };
                 let corner = DVec3::from(at);
                 let quad = Quad::new(corner, u * size, v * size).unwrap();
@@ -676,6 +679,9 @@ mod tests {
                             Emission::Everywhere => true,
                             Emission::OneSide(m) => m.normalize().dot(toward_p) > 1e-9,
                             Emission::BothSides(m) => m.normalize().dot(toward_p).abs() > 1e-9,
+                            Emission::Cone { axis, angle } => {
+                                axis.normalize().dot(toward_p) > angle.cos() + 1e-9
+                            }
                         };
                         // From in front of a one-sided receiver (`-toward_p` from `p` to
                         // the light), or either side.
