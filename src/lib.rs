@@ -97,7 +97,9 @@
 //! 4. **No NaN.** Nothing returned (hit record, box, density, direction, spawned ray) is
 //!    NaN or infinite, for any input, subnormals, `f64::MAX`, infinities and NaN included:
 //!    bad input is a [`GeometryError`] at construction, a ray that cannot be traced hits
-//!    nothing, and `occluded` answers exactly as `hit(..).is_some()`.
+//!    nothing, and `occluded` answers exactly as `hit(..).is_some()`. (Infinite where
+//!    that is the answer: an unbounded shape's box, and a sun's sample, whose light lies at
+//!    an infinite distance: [`LightSample::delta`].)
 //! 5. **Spawned rays leave.** A ray from [`HitRecord::spawn_ray`], in any direction, never
 //!    finds the surface it leaves (pbrt-v4's "Reintersect" property), nor, from a convex
 //!    shape on its outer side, any part of that shape: a crossing counts only where its
