@@ -179,7 +179,7 @@ fn a_scene_lit_by_punctual_lights_alone_has_lights() {
     );
     let dir = write("alone").parent().unwrap().to_path_buf();
     let path = dir.join("dark.gltf");
-    std::fs::write(&path, json).unwrap();
+    std::fs::write(&path, &json).unwrap();
     let scene = load_gltf(&path).unwrap();
     assert!(scene.lights().unwrap().is_none());
     let lights = scene.textured_lights().unwrap().unwrap();
@@ -191,4 +191,14 @@ fn a_scene_lit_by_punctual_lights_alone_has_lights() {
         )
         .unwrap();
     assert!(s.delta);
+    // Lights of intensity 0 too (valid glTF): nothing lights the scene, and that is no error.
+    let unlit = json
+        .replace(r#""intensity": 10.0"#, r#""intensity": 0.0"#)
+        .replace(r#""intensity": 80.0"#, r#""intensity": 0.0"#)
+        .replace(r#""intensity": 3.0"#, r#""intensity": 0.0"#);
+    let path = dir.join("unlit.gltf");
+    std::fs::write(&path, unlit).unwrap();
+    let scene = load_gltf(&path).unwrap();
+    assert_eq!(scene.punctual.len(), 3);
+    assert!(scene.textured_lights().unwrap().is_none());
 }

@@ -73,7 +73,7 @@ impl GltfScene {
     /// the texture lookup at a sampled point ([`GltfLights`] names them in its samples).
     /// The scene's [`punctual`](GltfScene::punctual) lights follow the faces in the tree,
     /// each of [`GltfPunctual::power`] (a sun among the tree's infinite lights); `None`
-    /// where no face emits and there is no such light.
+    /// where no face emits and no such light has power.
     ///
     /// ```
     /// # #[cfg(feature = "gltf")]
@@ -95,7 +95,8 @@ impl GltfScene {
         weight: impl FnMut(&Emitter) -> f64,
     ) -> Result<Option<GltfLights>, GeometryError> {
         let (emitters, sources, uvs) = self.faces_with(weight);
-        if emitters.is_empty() && self.punctual.is_empty() {
+        // Lights of intensity 0 (valid glTF) alone light nothing: no tree, not an error.
+        if emitters.is_empty() && !self.punctual.iter().any(|p| p.power() > 0.0) {
             return Ok(None);
         }
         let (faces, mut powers, mut emission) = emitters.into_parts();
