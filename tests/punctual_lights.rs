@@ -294,6 +294,22 @@ fn hall() -> Hall {
     Hall { panels, kinds }
 }
 
+impl Hall {
+    /// Its panels, then its punctual lights, and their powers (a panel's the flux of its
+    /// radiance; a punctual light's [`PunctualLight::power`]).
+    fn lights(&self) -> (Vec<Light<Quad>>, Vec<f64>) {
+        let lights = self
+            .panels
+            .iter()
+            .map(|&q| Light::Surface(q))
+            .chain(self.kinds.iter().map(|k| Light::Punctual(k.light())))
+            .collect();
+        let panels = self.panels.iter().map(|q| PI * RADIANCE * q.area());
+        let punctual = self.kinds.iter().map(|k| k.light().power(k.emitted()));
+        (lights, panels.chain(punctual).collect())
+    }
+}
+
 /// A panel's radiance (its front side, facing down, alone emits).
 const RADIANCE: f64 = 4.0;
 
@@ -318,18 +334,7 @@ fn estimate(
 #[test]
 fn every_kind_beside_area_lights_stays_unbiased() {
     let hall = hall();
-    let lights: Vec<Light<Quad>> = hall
-        .panels
-        .iter()
-        .map(|&q| Light::Surface(q))
-        .chain(hall.kinds.iter().map(|k| Light::Punctual(k.light())))
-        .collect();
-    let mut powers: Vec<f64> = hall
-        .panels
-        .iter()
-        .map(|q| PI * RADIANCE * q.area())
-        .collect();
-    powers.extend(hall.kinds.iter().map(|k| k.light().power(k.emitted())));
+    let (lights, powers) = hall.lights();
     let tree = LightTree::from_lights(lights.clone(), &powers).unwrap();
     let mixture = Mixture::new(lights.clone(), &powers).unwrap();
     let panels_only =
@@ -399,18 +404,7 @@ fn every_kind_beside_area_lights_stays_unbiased() {
 #[test]
 fn the_books_sampling_leaves_punctual_lights_out_unbiased() {
     let hall = hall();
-    let lights: Vec<Light<Quad>> = hall
-        .panels
-        .iter()
-        .map(|&q| Light::Surface(q))
-        .chain(hall.kinds.iter().map(|k| Light::Punctual(k.light())))
-        .collect();
-    let mut powers: Vec<f64> = hall
-        .panels
-        .iter()
-        .map(|q| PI * RADIANCE * q.area())
-        .collect();
-    powers.extend(hall.kinds.iter().map(|k| k.light().power(k.emitted())));
+    let (lights, powers) = hall.lights();
     let tree = LightTree::from_lights(lights, &powers).unwrap();
     let panels_only =
         LightTree::from_lights(hall.panels.clone(), &powers[..hall.panels.len()]).unwrap();
